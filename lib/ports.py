@@ -1,0 +1,600 @@
+"""Multi-port (TITOP / NINOP) linear models: channel inversion, frame change, interconnection.
+
+Paper: section "TITOP Approach" and the block diagrams of sections "2D Mechanisms"
+and "3D Mechanisms". Mathematics: ``docs/titop_math.md`` sections a, d and e.
+
+A :class:`MultiPortModel` is a square linear model whose input/output channels come
+in *conjugated pairs*, grouped in ports. A 6-dof port is a node (a point with a
+name and a position) and each of its six channels (Tx, Ty, Tz, Rx, Ry, Rz) has a
+causality:
+
+``"a"`` (clamped / parent side)
+    the input is the acceleration twist imposed at the node, the output is the
+    wrench applied **by** the model **on** the outside at that node;
+``"w"`` (free / child side)
+    the input is the wrench applied **on** the model at that node by the outside,
+    the output is the acceleration twist of the node.
+
+This single sign convention holds for every channel, inverted or not: channel
+inversion swaps the causality *and* the sign of the wrench, so that any two models
+can be connected by the same rule (accelerations shared, wrenches summed). With
+it, every model's DC gain from an imposed acceleration to its reaction wrench is
+minus its rigid mass matrix at that node.
+
+Scalar ports (e.g. a proof-mass actuator force in / stroke out) carry one channel
+with free-form input and output names; inverting them swaps the names only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import control as ct
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import frames
+
+__all__ = [
+    "COMPONENTS",
+    "Port",
+    "MultiPortModel",
+    "invert_channels",
+    "close_static",
+    "connect",
+    "frequency_response",
+]
+
+COMPONENTS: tuple[str, ...] = ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")
+_COMP_INDEX = {c: i for i, c in enumerate(COMPONENTS)}
+
+
+@dataclass(frozen=True)
+class Port:
+    """One port of a multi-port model.
+
+    Parameters
+    ----------
+    name : str
+        Node name (e.g. ``"N1"``); ports of different models with the same name
+        are the same physical point when models are connected.
+    position : ndarray, shape (3,)
+        Node position in the model's frame [m] (unused for scalar ports).
+    causality : tuple of str
+        Per channel ``"a"`` or ``"w"`` for a 6-dof port (see module docstring);
+        ``("s",)`` for a scalar port.
+    labels : tuple of str, optional
+        Scalar ports only: ``(input_name, output_name)``.
+    """
+
+    name: str
+    position: NDArray[np.float64]
+    causality: tuple[str, ...]
+    labels: tuple[str, str] | None = None
+
+    @property
+    def size(self) -> int:
+        """Number of channels (6 or 1)."""
+        return len(self.causality)
+
+    @property
+    def is_scalar(self) -> bool:
+        """True for a scalar (1-channel) port."""
+        return self.labels is not None
+
+    @property
+    def kind(self) -> str:
+        """``"clamped"`` (all accelerations in), ``"free"`` (all wrenches in), ``"mixed"`` or ``"scalar"``."""
+        if self.is_scalar:
+            return "scalar"
+        if all(c == "a" for c in self.causality):
+            return "clamped"
+        if all(c == "w" for c in self.causality):
+            return "free"
+        return "mixed"
+
+    def input_names(self) -> list[str]:
+        """Signal names of the port's inputs."""
+        if self.labels is not None:
+            return [self.labels[0]]
+        return [f"{'a' if c == 'a' else 'W'}_{self.name}.{k}" for c, k in zip(self.causality, COMPONENTS)]
+
+    def output_names(self) -> list[str]:
+        """Signal names of the port's outputs (the conjugates of the inputs)."""
+        if self.labels is not None:
+            return [self.labels[1]]
+        return [f"{'W' if c == 'a' else 'a'}_{self.name}.{k}" for c, k in zip(self.causality, COMPONENTS)]
+
+
+def _node_port(name: str, position: ArrayLike, kind: str) -> Port:
+    if kind not in ("clamped", "free"):
+        raise ValueError(f"port kind must be 'clamped' or 'free', got {kind!r}")
+    return Port(str(name), frames.as_vector3(position, f"position of {name}"), ("a" if kind == "clamped" else "w",) * 6)
+
+
+def scalar_port(name: str, input_name: str, output_name: str) -> Port:
+    """A scalar (1-channel) port with named input and output."""
+    return Port(str(name), np.zeros(3), ("s",), (str(input_name), str(output_name)))
+
+
+def invert_channels(
+    a: NDArray, b: NDArray, c: NDArray, d: NDArray, idx: Sequence[int], rcond: float = 1e-12
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Invert the conjugated channels ``idx`` of a square state-space model.
+
+    The inputs ``u_I`` and outputs ``y_I`` of the channels in ``idx`` swap roles
+    (new input ``y_I``, new output ``u_I``), staying in the same slots; this is
+    the paper's ``[M(s)]^{-1_I}`` (``docs/titop_math.md`` section d).
+
+    Parameters
+    ----------
+    a, b, c, d : ndarray
+        State-space matrices; ``d`` must be square.
+    idx : sequence of int
+        0-based channel indices to invert.
+    rcond : float
+        Smallest accepted reciprocal condition number of ``D_II``.
+
+    Returns
+    -------
+    tuple of ndarray
+        ``(A', B', C', D')``.
+
+    Raises
+    ------
+    ValueError
+        If ``D_II`` is singular: the channel set cannot be inverted.
+    """
+    n_ch = d.shape[0]
+    if d.shape[0] != d.shape[1]:
+        raise ValueError(f"channel inversion needs a square model, got D of shape {d.shape}")
+    ii = np.asarray(sorted(set(int(i) for i in idx)), dtype=int)
+    if ii.size != len(list(idx)):
+        raise ValueError(f"channel indices must be distinct, got {list(idx)}")
+    if ii.size == 0:
+        return a.copy(), b.copy(), c.copy(), d.copy()
+    if ii.min() < 0 or ii.max() >= n_ch:
+        raise ValueError(f"channel indices must be in [0, {n_ch - 1}], got {list(idx)}")
+    jj = np.setdiff1d(np.arange(n_ch), ii)
+    d_ii = d[np.ix_(ii, ii)]
+    scale = max(np.abs(d_ii).max(), np.finfo(float).tiny)
+    rc = 1.0 / np.linalg.cond(d_ii / scale) if np.all(np.isfinite(d_ii)) else 0.0
+    if not rc > rcond:
+        raise ValueError(
+            f"channels {list(ii)} cannot be inverted: their direct feedthrough D_II is singular "
+            f"(reciprocal condition number {rc:.1e}). Invert a set of channels whose "
+            "feedthrough is invertible, e.g. all six channels of a free port of a beam with "
+            "at least two bending modes per plane."
+        )
+    delta = np.linalg.inv(d_ii)
+    b_i, b_j = b[:, ii], b[:, jj]
+    c_i, c_j = c[ii, :], c[jj, :]
+    d_ij, d_ji, d_jj = d[np.ix_(ii, jj)], d[np.ix_(jj, ii)], d[np.ix_(jj, jj)]
+    a2 = a - b_i @ delta @ c_i
+    b2 = np.empty_like(b)
+    c2 = np.empty_like(c)
+    d2 = np.empty_like(d)
+    b2[:, ii] = b_i @ delta
+    b2[:, jj] = b_j - b_i @ delta @ d_ij
+    c2[ii, :] = -delta @ c_i
+    c2[jj, :] = c_j - d_ji @ delta @ c_i
+    d2[np.ix_(ii, ii)] = delta
+    d2[np.ix_(ii, jj)] = -delta @ d_ij
+    d2[np.ix_(jj, ii)] = d_ji @ delta
+    d2[np.ix_(jj, jj)] = d_jj - d_ji @ delta @ d_ij
+    return a2, b2, c2, d2
+
+
+def close_static(
+    a: NDArray,
+    b: NDArray,
+    c: NDArray,
+    d: NDArray,
+    k: NDArray,
+    e: NDArray,
+    f: NDArray,
+    h: NDArray,
+    rcond: float = 1e-12,
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Close static loops ``u = K y + E w``, ``z = F y + H w`` around ``(A, B, C, D)``.
+
+    This is the block-diagram interconnection of the paper. It is written here
+    because ``control.interconnect`` refuses the algebraic loops (direct
+    feedthrough inside every loop) that all TITOP assemblies contain.
+
+    Returns
+    -------
+    tuple of ndarray
+        State-space matrices from ``w`` to ``z``.
+
+    Raises
+    ------
+    ValueError
+        If ``I - D K`` is singular (an ill-posed interconnection).
+    """
+    m = np.eye(d.shape[0]) - d @ k
+    rc = 1.0 / np.linalg.cond(m)
+    if not rc > rcond:
+        raise ValueError(
+            f"ill-posed interconnection: I - D K is singular (reciprocal condition {rc:.1e}); "
+            "two blocks impose the same variable at a node, e.g. two free ports joined "
+            "without inverting one of them"
+        )
+    sol = np.linalg.solve(m, np.hstack([c, d @ e]))
+    y_x, y_w = sol[:, : c.shape[1]], sol[:, c.shape[1] :]
+    return a + b @ k @ y_x, b @ (e + k @ y_w), f @ y_x, f @ y_w + h
+
+
+def frequency_response(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega: ArrayLike) -> NDArray[np.complex128]:
+    """Frequency response ``C (j w I - A)^-1 B + D`` for each ``w`` in ``omega`` [rad/s].
+
+    Returns an array of shape ``(n_outputs, n_inputs, len(omega))``. Uses a
+    Hessenberg-free direct solve per frequency (fine up to a few hundred states).
+    """
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    n = a.shape[0]
+    out = np.empty((c.shape[0], b.shape[1], w.size), dtype=complex)
+    eye = np.eye(n)
+    for i, wi in enumerate(w):
+        out[:, :, i] = d + (c @ np.linalg.solve(1j * wi * eye - a, b) if n else 0.0)
+    return out
+
+
+class MultiPortModel:
+    """A square linear model with ports of conjugated input/output channels.
+
+    Parameters
+    ----------
+    a, b, c, d : array_like
+        State-space matrices; inputs and outputs are ordered port by port,
+        in the order of ``ports``, each port's channels in ``COMPONENTS`` order.
+    ports : sequence of Port
+        The ports; node names must be unique.
+    name : str
+        A label for the model.
+    """
+
+    def __init__(self, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, ports: Sequence[Port], name: str = "model"):
+        self.a = np.atleast_2d(np.asarray(a, dtype=float))
+        self.d = np.atleast_2d(np.asarray(d, dtype=float))
+        n_ch = sum(p.size for p in ports)
+        n_x = self.a.shape[0] if self.a.size else 0
+        self.a = self.a.reshape(n_x, n_x)
+        self.b = np.asarray(b, dtype=float).reshape(n_x, n_ch)
+        self.c = np.asarray(c, dtype=float).reshape(n_ch, n_x)
+        if self.d.shape != (n_ch, n_ch):
+            raise ValueError(f"D must be {n_ch}x{n_ch} for the given ports, got {self.d.shape}")
+        names = [p.name for p in ports]
+        if len(set(names)) != len(names):
+            raise ValueError(f"port names must be unique, got {names}")
+        self.ports: tuple[Port, ...] = tuple(ports)
+        self.name = name
+
+    # ------------------------------------------------------------------ access
+    @property
+    def nstates(self) -> int:
+        """Number of states."""
+        return self.a.shape[0]
+
+    @property
+    def nchannels(self) -> int:
+        """Number of channels (inputs = outputs)."""
+        return self.d.shape[0]
+
+    @property
+    def port_names(self) -> list[str]:
+        """Names of the ports, in channel order."""
+        return [p.name for p in self.ports]
+
+    def port(self, name: str) -> Port:
+        """The port named ``name``."""
+        for p in self.ports:
+            if p.name == name:
+                return p
+        raise ValueError(f"model {self.name!r} has no port {name!r}; ports are {self.port_names}")
+
+    def offset(self, name: str) -> int:
+        """Index of the first channel of port ``name``."""
+        off = 0
+        for p in self.ports:
+            if p.name == name:
+                return off
+            off += p.size
+        raise ValueError(f"model {self.name!r} has no port {name!r}; ports are {self.port_names}")
+
+    def channels(self, name: str, components: Iterable[str] | None = None) -> list[int]:
+        """0-based channel indices of port ``name`` (optionally only some components)."""
+        port = self.port(name)
+        off = self.offset(name)
+        if components is None:
+            return list(range(off, off + port.size))
+        if port.is_scalar:
+            raise ValueError(f"port {name!r} is scalar: it has no components")
+        out = []
+        for comp in components:
+            if comp not in _COMP_INDEX:
+                raise ValueError(f"unknown component {comp!r}; use one of {COMPONENTS}")
+            out.append(off + _COMP_INDEX[comp])
+        return out
+
+    def input_names(self) -> list[str]:
+        """All input signal names."""
+        return [n for p in self.ports for n in p.input_names()]
+
+    def output_names(self) -> list[str]:
+        """All output signal names."""
+        return [n for p in self.ports for n in p.output_names()]
+
+    def to_statespace(self) -> ct.StateSpace:
+        """Plain ``control.StateSpace`` with named inputs and outputs."""
+        return ct.ss(self.a, self.b, self.c, self.d, inputs=self.input_names(), outputs=self.output_names(), name=self.name)
+
+    def poles(self) -> NDArray[np.complex128]:
+        """Eigenvalues of A [rad/s]."""
+        return np.linalg.eigvals(self.a) if self.nstates else np.zeros(0, dtype=complex)
+
+    def freqresp(self, omega: ArrayLike, outputs: Sequence[int] | None = None, inputs: Sequence[int] | None = None) -> NDArray:
+        """Frequency response on ``omega`` [rad/s], shape ``(n_out, n_in, n_w)`` (optionally a sub-block)."""
+        b = self.b if inputs is None else self.b[:, list(inputs)]
+        c = self.c if outputs is None else self.c[list(outputs), :]
+        d = self.d if outputs is None else self.d[list(outputs), :]
+        d = d if inputs is None else d[:, list(inputs)]
+        return frequency_response(self.a, b, c, d, omega)
+
+    def __repr__(self) -> str:
+        desc = ", ".join(f"{p.name}:{p.kind}" for p in self.ports)
+        return f"MultiPortModel({self.name!r}, {self.nstates} states, {self.nchannels} channels; {desc})"
+
+    # ------------------------------------------------------------- operations
+    def invert(self, channels: Iterable[int], one_based: bool = False, name: str | None = None) -> "MultiPortModel":
+        """Channel inversion ``[M(s)]^{-1_I}``.
+
+        Parameters
+        ----------
+        channels : iterable of int
+            Channel indices (0-based by default; ``one_based=True`` takes the
+            paper's 1-based indices, e.g. ``[1, 2, 3, 4, 6, 11]``).
+        one_based : bool
+            Interpret ``channels`` as 1-based.
+        name : str, optional
+            Name of the new model.
+
+        Returns
+        -------
+        MultiPortModel
+            Model with the inverted channels' causality swapped. The wrench of
+            each inverted 6-dof channel keeps this module's sign convention.
+
+        Raises
+        ------
+        ValueError
+            If an index does not exist or the channel set is not invertible.
+        """
+        idx = [int(i) - (1 if one_based else 0) for i in channels]
+        bad = [i for i in idx if not 0 <= i < self.nchannels]
+        if bad:
+            shown = [i + (1 if one_based else 0) for i in bad]
+            base = 1 if one_based else 0
+            raise ValueError(
+                f"channel index {shown} does not exist in {self.name!r}: valid "
+                f"{'1' if one_based else '0'}-based indices are {base}..{self.nchannels - 1 + base}"
+            )
+        a, b, c, d = invert_channels(self.a, self.b, self.c, self.d, idx)
+        ports = []
+        sign = np.ones(self.nchannels)
+        off = 0
+        new_caus = []
+        for p in self.ports:
+            caus = list(p.causality)
+            for k in range(p.size):
+                if off + k in idx and not p.is_scalar:
+                    caus[k] = "w" if caus[k] == "a" else "a"
+                    sign[off + k] = -1.0
+            labels = p.labels
+            if p.is_scalar and off in idx:
+                labels = (p.labels[1], p.labels[0])
+            ports.append(replace(p, causality=tuple(caus), labels=labels))
+            new_caus.extend(caus)
+            off += p.size
+        # Keep "wrench applied on the model" at inputs and "by the model" at outputs:
+        # negate the wrench of each inverted 6-dof channel.
+        in_sign = np.where((sign < 0) & (np.array(new_caus) == "w"), -1.0, 1.0)
+        out_sign = np.where((sign < 0) & (np.array(new_caus) == "a"), -1.0, 1.0)
+        b = b * in_sign
+        c = out_sign[:, None] * c
+        d = out_sign[:, None] * d * in_sign
+        return MultiPortModel(a, b, c, d, ports, name or f"{self.name}^-1")
+
+    def invert_ports(self, *names: str, name: str | None = None) -> "MultiPortModel":
+        """Invert all channels of the named ports (free <-> clamped)."""
+        idx = [i for n in names for i in self.channels(n)]
+        return self.invert(idx, name=name)
+
+    def _transform(self, t_in: Mapping[str, NDArray], t_out: Mapping[str, NDArray], ports: Sequence[Port], name: str) -> "MultiPortModel":
+        """Apply per-port input/output maps: ``u_old = T_in u_new``, ``y_new = T_out y_old``."""
+        tin = np.eye(self.nchannels)
+        tout = np.eye(self.nchannels)
+        for p in self.ports:
+            if p.name in t_in:
+                sl = slice(self.offset(p.name), self.offset(p.name) + p.size)
+                tin[sl, sl] = t_in[p.name]
+                tout[sl, sl] = t_out[p.name]
+        return MultiPortModel(self.a, self.b @ tin, tout @ self.c, tout @ self.d @ tin, ports, name)
+
+    def reproject(self, rot: ArrayLike, name: str | None = None) -> "MultiPortModel":
+        """Express the model in another frame.
+
+        Parameters
+        ----------
+        rot : array_like, shape (3, 3)
+            DCM ``R_new,old`` (components in the model's frame -> new frame).
+            All 6-dof port variables are mapped by the twice DCM and node
+            positions by ``R`` (the origin is kept).
+        """
+        r6 = frames.twice_dcm(rot)
+        rot = np.asarray(rot, dtype=float)
+        six = [p for p in self.ports if not p.is_scalar]
+        ports = [p if p.is_scalar else replace(p, position=rot @ p.position) for p in self.ports]
+        return self._transform({p.name: r6.T for p in six}, {p.name: r6 for p in six}, ports, name or self.name)
+
+    def translate(self, offset: ArrayLike, name: str | None = None) -> "MultiPortModel":
+        """Move the whole model by ``offset`` [m] (positions only; dynamics unchanged)."""
+        off = frames.as_vector3(offset, "offset")
+        ports = [p if p.is_scalar else replace(p, position=p.position + off) for p in self.ports]
+        return MultiPortModel(self.a, self.b, self.c, self.d, ports, name or self.name)
+
+    def transport(self, port: str, position: ArrayLike, new_name: str | None = None) -> "MultiPortModel":
+        """Move port ``port`` to another point rigidly attached to it, with the kinematic model tau.
+
+        For a clamped port at P moved to Q: ``a_P = tau_PQ a_Q`` and the reaction
+        becomes ``tau_PQ^T W_P``; for a free port: ``W_P = tau_QP^T W_Q`` and
+        ``a_Q = tau_QP a_P``.
+
+        Raises
+        ------
+        ValueError
+            For a scalar or mixed-causality port (tau couples its components).
+        """
+        p = self.port(port)
+        if p.kind not in ("clamped", "free"):
+            raise ValueError(f"port {port!r} is {p.kind}: only clamped or free 6-dof ports can be transported")
+        q = frames.as_vector3(position, "position")
+        if p.kind == "clamped":
+            t = frames.tau(q - p.position)  # tau_PQ
+            t_in, t_out = t, t.T
+        else:
+            t = frames.tau(p.position - q)  # tau_QP
+            t_in, t_out = t.T, t
+        new = replace(p, name=new_name or p.name, position=q)
+        ports = [new if x.name == port else x for x in self.ports]
+        return self._transform({port: t_in}, {port: t_out}, ports, self.name)
+
+    def rename(self, mapping: Mapping[str, str], name: str | None = None) -> "MultiPortModel":
+        """Rename ports (nodes) with ``mapping`` old name -> new name."""
+        for old in mapping:
+            self.port(old)
+        ports = [replace(p, name=mapping.get(p.name, p.name)) for p in self.ports]
+        return MultiPortModel(self.a, self.b, self.c, self.d, ports, name or self.name)
+
+    def reorder(self, order: Sequence[str], name: str | None = None) -> "MultiPortModel":
+        """Reorder the ports; ``order`` must name every port once."""
+        if sorted(order) != sorted(self.port_names):
+            raise ValueError(f"order must list each port once: got {list(order)}, ports are {self.port_names}")
+        perm = [i for n in order for i in self.channels(n)]
+        ports = [self.port(n) for n in order]
+        return MultiPortModel(self.a, self.b[:, perm], self.c[perm, :], self.d[np.ix_(perm, perm)], ports, name or self.name)
+
+
+def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Sequence[str] | None = None, atol: float = 1e-9) -> MultiPortModel:
+    """Interconnect models at their shared nodes (the paper's block-diagram assembly).
+
+    At each node and for each of its six components, at most one model may
+    have the channel free (``"w"``): its acceleration output drives the models
+    clamped there (``"a"``), and it receives the external wrench plus their
+    reaction wrenches (kinematic constraint and wrench balance). The resulting
+    channel is free. When all models are clamped at a channel, they share the
+    imposed acceleration and their reactions add; the channel stays clamped.
+
+    Parameters
+    ----------
+    models : sequence of MultiPortModel
+        Models expressed in one common frame.
+    name : str
+        Name of the assembly.
+    order : sequence of str, optional
+        Order of the assembly's ports (default: order of first appearance).
+    atol : float
+        Tolerance on the agreement of node positions [m].
+
+    Raises
+    ------
+    ValueError
+        If positions of a shared node disagree, a scalar port is shared, or a
+        channel is free in two models (a loop needs one of them inverted).
+    """
+    if not models:
+        raise ValueError("connect needs at least one model")
+    offs_x = np.cumsum([0] + [m.nstates for m in models])
+    offs_c = np.cumsum([0] + [m.nchannels for m in models])
+    n_x, n_c = int(offs_x[-1]), int(offs_c[-1])
+    a = np.zeros((n_x, n_x))
+    b = np.zeros((n_x, n_c))
+    c = np.zeros((n_c, n_x))
+    d = np.zeros((n_c, n_c))
+    for i, m in enumerate(models):
+        sx, sc = slice(offs_x[i], offs_x[i + 1]), slice(offs_c[i], offs_c[i + 1])
+        a[sx, sx], b[sx, sc], c[sc, sx], d[sc, sc] = m.a, m.b, m.c, m.d
+
+    # Occurrences of each node: list of (model index, port).
+    nodes: dict[str, list[tuple[int, Port]]] = {}
+    for i, m in enumerate(models):
+        for p in m.ports:
+            nodes.setdefault(p.name, []).append((i, p))
+    names = list(order) if order is not None else list(nodes)
+    if sorted(names) != sorted(nodes):
+        raise ValueError(f"order must list each node once: got {list(names)}, nodes are {list(nodes)}")
+
+    k = np.zeros((n_c, n_c))
+    e_cols, f_rows, ports = [], [], []
+    for node in names:
+        occ = nodes[node]
+        first = occ[0][1]
+        if first.is_scalar or any(p.is_scalar for _, p in occ):
+            if len(occ) > 1:
+                raise ValueError(f"scalar port {node!r} appears in several models: scalar channels cannot be shared")
+            i, p = occ[0]
+            ch = offs_c[i] + models[i].offset(node)
+            e_cols.append(ch)
+            f_rows.append([(ch, 1.0)])
+            ports.append(p)
+            continue
+        for i, p in occ[1:]:
+            if not np.allclose(p.position, first.position, atol=atol):
+                raise ValueError(
+                    f"node {node!r} is at {first.position} in {models[occ[0][0]].name!r} but at "
+                    f"{p.position} in {models[i].name!r}: express the models in one frame"
+                )
+        caus = []
+        for comp in range(6):
+            chans = [(offs_c[i] + models[i].offset(node) + comp, p.causality[comp]) for i, p in occ]
+            free = [ch for ch, cz in chans if cz == "w"]
+            clamped = [ch for ch, cz in chans if cz == "a"]
+            if len(free) > 1:
+                owners = [models[i].name for i, p in occ if p.causality[comp] == "w"]
+                raise ValueError(
+                    f"node {node!r}, component {COMPONENTS[comp]}: free in several models {owners}; "
+                    "a closed kinematic loop needs all but one of them inverted (clamped)"
+                )
+            if free:
+                (fch,) = free
+                for ch in clamped:
+                    k[ch, fch] = 1.0  # clamped model gets the free model's acceleration
+                    k[fch, ch] = 1.0  # free model gets the clamped model's reaction wrench
+                e_cols.append(fch)
+                f_rows.append([(fch, 1.0)])
+                caus.append("w")
+            else:
+                e_cols.append(clamped)
+                f_rows.append([(ch, 1.0) for ch in clamped])
+                caus.append("a")
+        ports.append(Port(node, first.position.copy(), tuple(caus)))
+
+    n_ext = len(e_cols)
+    e = np.zeros((n_c, n_ext))
+    f = np.zeros((n_ext, n_c))
+    for j, col in enumerate(e_cols):
+        e[col, j] = 1.0
+    for j, row in enumerate(f_rows):
+        for ch, val in row:
+            f[j, ch] = val
+    a2, b2, c2, d2 = close_static(a, b, c, d, k, e, f, np.zeros((n_ext, n_ext)))
+    return MultiPortModel(a2, b2, c2, d2, ports, name)
+
+
+def node_port(name: str, position: ArrayLike, kind: str) -> Port:
+    """A 6-dof port at node ``name`` and ``position`` [m], ``kind`` ``"clamped"`` or ``"free"``."""
+    return _node_port(name, position, kind)
+
+
+__all__ += ["node_port", "scalar_port"]
