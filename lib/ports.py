@@ -342,6 +342,28 @@ class MultiPortModel:
         d = d if inputs is None else d[:, list(inputs)]
         return frequency_response(self.a, b, c, d, omega)
 
+    def static_compliance(self, port: str) -> NDArray[np.float64]:
+        """Static compliance of a free port: ``lim_{s->0} G_{a<-W}(s) / s^2`` [m/N, rad/(N m), ...].
+
+        For ``G(s) = D + C (sI - A)^-1 B`` with ``G(0) = G'(0) = 0`` on this block,
+        the ``s^2`` coefficient is ``-C A^-3 B``. It is the displacement of the
+        port per unit static wrench (6x6, translations then rotations).
+
+        Raises
+        ------
+        ValueError
+            If the port is not free, or A is singular (a model with poles at 0).
+        """
+        if self.port(port).kind != "free":
+            raise ValueError(f"port {port!r} is {self.port(port).kind}: the compliance is defined for a free port")
+        idx = self.channels(port)
+        if self.nstates == 0 or np.linalg.cond(self.a) > 1e14:
+            raise ValueError(f"{self.name!r} has poles at s = 0: remove them (lib.reduction) before asking for a compliance")
+        x = np.linalg.solve(self.a, self.b[:, idx])
+        x = np.linalg.solve(self.a, x)
+        x = np.linalg.solve(self.a, x)
+        return -self.c[idx, :] @ x
+
     def __repr__(self) -> str:
         desc = ", ".join(f"{p.name}:{p.kind}" for p in self.ports)
         return f"MultiPortModel({self.name!r}, {self.nstates} states, {self.nchannels} channels; {desc})"

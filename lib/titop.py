@@ -264,7 +264,7 @@ def modal_data(length: float, section: Section, n_modes: int = 1) -> ModalData:
         Section and material.
     n_modes : int
         Clamped-clamped modes per field in the Ritz basis (>= 1). The model has
-        ``2 * (4 + 6 * n_modes)`` states: 20 for the default 1.
+        ``2 * (6 + 4 * n_modes)`` states: 20 for the default 1.
 
     Returns
     -------

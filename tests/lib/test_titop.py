@@ -1,0 +1,157 @@
+"""TITOP beam: closed-form Euler-Bernoulli frequencies, exact statics, inversion."""
+
+import numpy as np
+import pytest
+
+from lib import titop
+
+# Three different parameter sets: the paper's aluminium beam, a long steel beam
+# with a rectangular section (Iy != Iz, arbitrary J), a short titanium beam with
+# the exact square-section torsion constant.
+CASES = {
+    "paper_aluminium": (1.0, titop.Section.square(0.03)),
+    "steel_rectangular": (2.5, titop.Section(2e-4, 3e-9, 8e-9, 5e-9, young=200e9, poisson=0.3, density=7800.0, damping=0.002)),
+    "titanium_exact_J": (0.4, titop.Section.square(0.015, young=110e9, poisson=0.34, density=4430.0, torsion="exact")),
+}
+
+
+def _pole_freqs(model, tol=1e-2):
+    """Undamped natural frequencies |s| of the poles above tol, one per complex pair."""
+    p = model.poles()
+    p = p[p.imag > 0]
+    return np.sort(np.abs(p[np.abs(p) > tol]))
+
+
+def _nearest(values, target):
+    return values[np.argmin(np.abs(values - target))]
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_clamped_free_frequencies_match_closed_form(case):
+    length, sec = CASES[case]
+    f = _pole_freqs(titop.clamped_free(length, sec))
+    for motion in ("bending_y", "bending_z"):
+        w1, w2 = titop.analytic_frequencies(length, sec, motion, "clamped-free", 2)
+        assert abs(_nearest(f, w1) / w1 - 1) < 1e-3
+        assert abs(_nearest(f, w2) / w2 - 1) < 5e-3
+    for motion in ("axial", "torsion"):
+        (w1,) = titop.analytic_frequencies(length, sec, motion, "clamped-free", 1)
+        assert abs(_nearest(f, w1) / w1 - 1) < 5e-3
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_static_tip_compliance_is_exact(case):
+    length, s = CASES[case]
+    model = titop.clamped_free(length, s)
+    comp = model.static_compliance("C")
+    e, g = s.young, s.shear_modulus
+    exact = np.zeros((6, 6))
+    exact[0, 0] = length / (e * s.area)
+    exact[3, 3] = length / (g * s.torsion_constant)
+    exact[1, 1] = length**3 / (3 * e * s.iz)
+    exact[1, 5] = exact[5, 1] = length**2 / (2 * e * s.iz)
+    exact[5, 5] = length / (e * s.iz)
+    exact[2, 2] = length**3 / (3 * e * s.iy)
+    exact[2, 4] = exact[4, 2] = -(length**2) / (2 * e * s.iy)
+    exact[4, 4] = length / (e * s.iy)
+    nz = exact != 0
+    np.testing.assert_allclose(comp[nz], exact[nz], rtol=1e-9)
+    assert np.max(np.abs(comp[~nz])) < 1e-9 * np.max(np.abs(exact))
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_dc_gain_acceleration_to_wrench_is_minus_rigid_mass(case):
+    length, s = CASES[case]
+    model = titop.clamped_free(length, s)
+    dc = model.d - model.c @ np.linalg.solve(model.a, model.b)
+    p = model.channels("P")
+    m = s.density * s.area * length
+    expected = np.zeros((6, 6))
+    expected[:3, :3] = m * np.eye(3)
+    expected[1, 5] = expected[5, 1] = m * length / 2  # first moment (G at l/2 on x)
+    expected[2, 4] = expected[4, 2] = -m * length / 2
+    expected[3, 3] = s.density * s.polar * length
+    expected[4, 4] = expected[5, 5] = m * length**2 / 3
+    np.testing.assert_allclose(dc[np.ix_(p, p)], -expected, rtol=1e-9, atol=1e-9 * m * length**2)
+    np.testing.assert_allclose(titop.rigid_mass(length, s), expected, rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_inversion_clamped_clamped_and_pinned_pinned(case):
+    length, s = CASES[case]
+    model = titop.clamped_free(length, s)
+    cc = model.invert(range(1, 7), one_based=True)  # the paper's [1:6]
+    assert [p.kind for p in cc.ports] == ["clamped", "clamped"]
+    f_cc = _pole_freqs(cc)
+    for motion in ("bending_y", "bending_z"):
+        (w,) = titop.analytic_frequencies(length, s, motion, "clamped-clamped", 1)
+        assert abs(_nearest(f_cc, w) / w - 1) < 1e-3
+    # 12 poles at zero for the 6-channel port inversion that closes the beam between two clamps
+    assert np.sum(np.abs(cc.poles()) < 1e-2) == 12
+    pp = model.invert([1, 2, 3, 4, 6, 11], one_based=True)  # pinned about body y at P and C
+    (w,) = titop.analytic_frequencies(length, s, "bending_z", "pinned-pinned", 1)
+    assert abs(_nearest(_pole_freqs(pp), w) / w - 1) < 1e-3
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_double_inversion_gives_back_the_original(case):
+    length, s = CASES[case]
+    model = titop.clamped_free(length, s)
+    omega = np.logspace(0, 5, 60)
+    for chans in ([0, 1, 2, 3, 4, 5], [0, 1, 2, 3, 5, 10], [6, 7, 8, 9, 10, 11]):
+        twice = model.invert(chans).invert(chans)
+        g0, g1 = model.freqresp(omega), twice.freqresp(omega)
+        err = np.max(np.abs(g1 - g0), axis=(0, 1)) / np.max(np.abs(g0), axis=(0, 1))
+        assert err.max() < 1e-9
+        assert [p.causality for p in twice.ports] == [p.causality for p in model.ports]
+
+
+def test_default_order_is_20_and_richer_basis_converges():
+    length, s = CASES["paper_aluminium"]
+    assert titop.clamped_free(length, s).nstates == 20
+    assert titop.clamped_free(length, s, n_modes=3).nstates == 36
+    exact = titop.analytic_frequencies(length, s, "bending_y", "clamped-free", 2)[1]
+    errs = [abs(_nearest(_pole_freqs(titop.clamped_free(length, s, n_modes=n)), exact) / exact - 1) for n in (1, 2, 4)]
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[2] < 3e-4  # from 4.2e-3 with one mode per field
+
+
+def test_square_torsion_constant():
+    assert np.isclose(titop.square_torsion_constant(1.0), 0.140577, rtol=1e-5)
+    exact = titop.Section.square(0.02, torsion="exact")
+    assert np.isclose(exact.torsion_constant / 0.02**4, 0.1406, rtol=1e-3)
+    assert np.isclose(titop.Section.square(0.02).torsion_constant, exact.iy + exact.iz)
+
+
+@pytest.mark.parametrize(
+    "kwargs, exc, match",
+    [
+        (dict(area=-1.0), ValueError, "area"),
+        (dict(iy=0.0), ValueError, "iy"),
+        (dict(young=float("nan")), ValueError, "young"),
+        (dict(density=0.0), ValueError, "density"),
+        (dict(damping=1.0), ValueError, "damping"),
+        (dict(damping=-0.01), ValueError, "damping"),
+        (dict(poisson=0.7), ValueError, "poisson"),
+        (dict(area="big"), TypeError, "area"),
+    ],
+)
+def test_bad_section_raises(kwargs, exc, match):
+    base = dict(area=9e-4, iy=6.75e-8, iz=6.75e-8, torsion_constant=1.35e-7)
+    base.update(kwargs)
+    with pytest.raises(exc, match=match):
+        titop.Section(**base)
+
+
+def test_bad_length_and_basis_raise():
+    s = titop.Section.square(0.03)
+    with pytest.raises(ValueError, match="length"):
+        titop.clamped_free(0.0, s)
+    with pytest.raises(ValueError, match="length"):
+        titop.clamped_free(-2.0, s)
+    with pytest.raises(ValueError, match="n_modes"):
+        titop.clamped_free(1.0, s, n_modes=0)
+    with pytest.raises(ValueError, match="h"):
+        titop.Section.square(-0.01)
+    with pytest.raises(ValueError, match="torsion"):
+        titop.Section.square(0.01, torsion="warping")
