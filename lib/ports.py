@@ -98,13 +98,13 @@ class Port:
         """Signal names of the port's inputs."""
         if self.labels is not None:
             return [self.labels[0]]
-        return [f"{'a' if c == 'a' else 'W'}_{self.name}.{k}" for c, k in zip(self.causality, COMPONENTS)]
+        return [f"{'a' if c == 'a' else 'W'}_{self.name}_{k}" for c, k in zip(self.causality, COMPONENTS)]
 
     def output_names(self) -> list[str]:
         """Signal names of the port's outputs (the conjugates of the inputs)."""
         if self.labels is not None:
             return [self.labels[1]]
-        return [f"{'W' if c == 'a' else 'a'}_{self.name}.{k}" for c, k in zip(self.causality, COMPONENTS)]
+        return [f"{'W' if c == 'a' else 'a'}_{self.name}_{k}" for c, k in zip(self.causality, COMPONENTS)]
 
 
 def _node_port(name: str, position: ArrayLike, kind: str) -> Port:
