@@ -1,0 +1,61 @@
+"""Results files: one JSON per notebook, so that runs can be compared by a program."""
+
+from __future__ import annotations
+
+import json
+import platform
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from .paths import resolve
+
+__all__ = ["to_jsonable", "save_results", "load_results"]
+
+
+def to_jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays (and nested containers) to plain JSON types."""
+    if isinstance(value, dict):
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return to_jsonable(value.tolist())
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        return float(value) if np.isfinite(value) else str(value)
+    if isinstance(value, complex):
+        return {"re": value.real, "im": value.imag}
+    return value
+
+
+def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "data/results",
+                 parameters: dict[str, Any] | None = None) -> Path:
+    """Write ``results`` (and the run's ``parameters``) to ``<results_dir>/<name>.json``.
+
+    Returns the path written.
+    """
+    folder = resolve(results_dir)
+    payload = {
+        "notebook": name,
+        "library_version": __version__,
+        "python": platform.python_version(),
+        "parameters": to_jsonable(parameters or {}),
+        "results": to_jsonable(results),
+    }
+    path = folder / f"{name}.json"
+    path.write_text(json.dumps(payload, indent=2, sort_keys=False) + "\n")
+    return path
+
+
+def load_results(name: str, results_dir: str | Path = "data/results") -> dict[str, Any]:
+    """Read a results file written by :func:`save_results`."""
+    path = resolve(results_dir, create=False) / f"{name}.json"
+    if not path.exists():
+        raise FileNotFoundError(f"no results file {path}: run notebook {name} first")
+    return json.loads(path.read_text())

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Main job: execute every notebook in order with papermill.
+#
+#   bash scripts/run_notebooks.sh                       # paper settings: figures/ and data/results/
+#   bash scripts/run_notebooks.sh --params p.yaml --out runs/my_study
+#
+# Executed copies go to <out>/notebooks (default runs/latest). With --out, figures and
+# results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched.
+# --params takes a YAML file of parameters applied to every notebook (unknown names
+# are ignored by the notebooks that do not declare them).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY="${PYTHON:-python3}"
+out="" params=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --out) out="$2"; shift 2 ;;
+    --params) params="$2"; shift 2 ;;
+    --no-install) NO_INSTALL=1; shift ;;
+    *) echo "unknown argument $1 (use --out DIR, --params FILE.yaml, --no-install)" >&2; exit 2 ;;
+  esac
+done
+[ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
+extra=()
+if [ -n "$out" ]; then
+  extra+=(-p figures_dir "$out/figures" -p results_dir "$out/results")
+  nbdir="$out/notebooks"
+else
+  nbdir="runs/latest/notebooks"
+fi
+[ -z "$params" ] || extra+=(-f "$params")
+mkdir -p "$nbdir"
+for nb in notebooks/[0-9][0-9]_*.ipynb; do
+  echo "== $nb"
+  "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" "${extra[@]}"
+done
+echo "executed notebooks in $nbdir"

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Test command: install, then the unit tests of lib/ and every notebook under nbval.
+#
+# Each notebook is first given its smoke parameters (tests/smoke/NN_*.yaml: output folders
+# under build/smoke, smaller loops, never weaker physics checks) by papermill --prepare-only;
+# nbval then executes it, and the notebook's own asserts are the checks.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY="${PYTHON:-python3}"
+[ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
+export MPLBACKEND=Agg
+rm -rf build/smoke && mkdir -p build/smoke
+for nb in notebooks/[0-9][0-9]_*.ipynb; do
+  name="$(basename "$nb" .ipynb)"
+  args=()
+  if [ -f "tests/smoke/$name.yaml" ]; then args=(-f "tests/smoke/$name.yaml"); fi
+  "$PY" -m papermill --log-level WARNING --prepare-only "$nb" "build/smoke/$name.ipynb" "${args[@]}"
+done
+"$PY" -m pytest tests build/smoke --nbval-lax --nbval-current-env -p no:cacheprovider "$@"
