@@ -1,7 +1,15 @@
 #!/usr/bin/env bash
-# Install everything the project needs on a fresh machine (Python 3.11 with pip).
+# Install everything the project needs on a fresh machine (Debian, Python 3.11 with pip).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
+# OpenSeesPy (notebook 03's FE cross-check) links against the system BLAS/LAPACK runtime.
+if ! { ldconfig -p 2>/dev/null | grep -q 'libblas\.so\.3' && ldconfig -p 2>/dev/null | grep -q 'liblapack\.so\.3'; }; then
+  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null
+  else
+    echo "warning: libblas3/liblapack3 missing and apt-get unavailable (not root): OpenSeesPy will not import" >&2
+  fi
+fi
 "$PY" -m pip install --disable-pip-version-check -q -r requirements.txt
 "$PY" -m pip install --disable-pip-version-check -q --no-deps -e .

@@ -1,0 +1,138 @@
+"""Modal data <-> single-port models: participation factors of a state-space model, and
+the model of a cantilevered body rebuilt from its modal data (the NASTRAN/SDT interface).
+
+Paper: section "System Validation" (the P/N model built from the Nastran ``.f06``
+modal data; the participation factors of the cube table). For a body clamped at P
+with mass-normalised modes (frequency w_k, damping xi_k, participation factors L_k,
+a 1x6 row), the transfer from the imposed acceleration at P to the wrench the body
+applies on its parent is
+
+    G(s) = -D_P + sum_k L_k^T L_k s^2 / (s^2 + 2 xi_k w_k s + w_k^2),
+
+so ``G(0) = -D_P`` (rigid mass) and the residue of G at a pole p_k is
+``L_k^T L_k p_k^2 / (2 j Im p_k)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import linalg
+
+from .ports import MultiPortModel, node_port
+from .reduction import remove_slow_poles
+
+__all__ = ["ModalParticipation", "participation_factors", "cantilever_from_modes", "align_signs", "effective_mass"]
+
+
+@dataclass(frozen=True)
+class ModalParticipation:
+    """Modes seen at a clamped port.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n,)
+        Natural frequencies |p_k| [rad/s], ascending.
+    damping : ndarray, shape (n,)
+        Damping ratios -Re(p_k)/|p_k|.
+    factors : ndarray, shape (n, 6)
+        Participation factors at the port (sign of each row arbitrary).
+    rank_one_residual : ndarray, shape (n,)
+        Second-largest / largest eigenvalue of each mode's residue matrix: small for an
+        isolated mode, O(1) for a repeated (degenerate) pair whose factors are then not unique.
+    """
+
+    omega: NDArray[np.float64]
+    damping: NDArray[np.float64]
+    factors: NDArray[np.float64]
+    rank_one_residual: NDArray[np.float64]
+
+
+def participation_factors(model: MultiPortModel, port: str, n_modes: int = 10, omega_min: float = 0.01) -> ModalParticipation:
+    """Modal participation factors at a clamped port, from the state-space model.
+
+    The spurious slow poles are removed first (:func:`lib.reduction.remove_slow_poles`);
+    the residue of the port's 6x6 transfer at each of the first ``n_modes`` poles
+    gives ``L_k^T L_k``, whose dominant eigenvector is ``L_k``.
+
+    Raises
+    ------
+    ValueError
+        If the port is not clamped or the model has fewer than ``n_modes`` modes.
+    """
+    if model.port(port).kind != "clamped":
+        raise ValueError(f"port {port!r} is {model.port(port).kind}: participation factors need a clamped port")
+    red = remove_slow_poles(model, omega_min)
+    idx = red.channels(port)
+    lam, vr = linalg.eig(red.a)
+    upper = np.where(lam.imag > 0)[0]
+    if upper.size < n_modes:
+        raise ValueError(f"{model.name!r} has {upper.size} oscillating modes, fewer than n_modes = {n_modes}")
+    upper = upper[np.argsort(np.abs(lam[upper]))][:n_modes]
+    left = linalg.solve(vr, red.b[:, idx])  # rows: modal input vectors
+    omega, zeta, facs, resid = [], [], [], []
+    for k in upper:
+        p = lam[k]
+        residue = np.outer(red.c[idx, :] @ vr[:, k], left[k])
+        ltl = (residue * 2j * p.imag / p**2).real
+        ltl = 0.5 * (ltl + ltl.T)
+        ev, vec = np.linalg.eigh(ltl)
+        facs.append(np.sqrt(max(ev[-1], 0.0)) * vec[:, -1])
+        resid.append(abs(ev[-2]) / max(abs(ev[-1]), 1e-300))
+        omega.append(abs(p))
+        zeta.append(-p.real / abs(p))
+    return ModalParticipation(np.array(omega), np.array(zeta), np.array(facs), np.array(resid))
+
+
+def align_signs(factors: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
+    """Flip the sign of each row of ``factors`` to best match the same row of ``reference``."""
+    f = np.array(factors, dtype=float)
+    r = np.asarray(reference, dtype=float)
+    if f.shape != r.shape:
+        raise ValueError(f"factors {f.shape} and reference {r.shape} must have the same shape")
+    sign = np.where(np.sum(f * r, axis=1) < 0, -1.0, 1.0)
+    return f * sign[:, None]
+
+
+def effective_mass(factors: ArrayLike) -> NDArray[np.float64]:
+    """Effective mass per direction summed over the modes: ``sum_k L_kj^2`` [kg or kg m^2]."""
+    return np.sum(np.asarray(factors, dtype=float) ** 2, axis=0)
+
+
+def cantilever_from_modes(rigid_mass: ArrayLike, omega: ArrayLike, factors: ArrayLike, damping: float | ArrayLike = 0.001,
+                          node: str = "P", position: ArrayLike = (0.0, 0.0, 0.0), name: str = "modal") -> MultiPortModel:
+    """Single clamped-port model of a body from its rigid mass and modal data.
+
+    Inputs: acceleration twist at the port; outputs: wrench applied by the body
+    on its parent. State ``[eta; eta_dot]``; ``A = [[0, I], [-W^2, -2 Xi W]]``,
+    ``B = [0; -L]``, ``C = [L^T W^2, 2 L^T Xi W]``, ``D = -(D_P - L^T L)``.
+
+    Parameters
+    ----------
+    rigid_mass : array_like, shape (6, 6)
+        Rigid mass matrix at the port [kg, kg m, kg m^2].
+    omega : array_like, shape (n,)
+        Natural frequencies [rad/s] (> 0).
+    factors : array_like, shape (n, 6)
+        Participation factors at the port.
+    damping : float or array_like
+        Modal damping ratio(s) in [0, 1).
+    """
+    d_p = np.asarray(rigid_mass, dtype=float)
+    w = np.asarray(omega, dtype=float).reshape(-1)
+    lp = np.asarray(factors, dtype=float).reshape(w.size, 6)
+    z = np.broadcast_to(np.asarray(damping, dtype=float), w.shape)
+    if d_p.shape != (6, 6):
+        raise ValueError(f"rigid_mass must be 6x6, got {d_p.shape}")
+    if np.any(w <= 0) or not np.all(np.isfinite(w)):
+        raise ValueError("omega must be finite positive frequencies [rad/s]")
+    if np.any((z < 0) | (z >= 1)):
+        raise ValueError(f"damping must be in [0, 1), got {damping!r}")
+    n = w.size
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-np.diag(w**2), -np.diag(2 * z * w)]])
+    b = np.vstack([np.zeros((n, 6)), -lp])
+    c = np.hstack([lp.T @ np.diag(w**2), lp.T @ np.diag(2 * z * w)])
+    d = -(d_p - lp.T @ lp)
+    return MultiPortModel(a, b, c, d, [node_port(node, position, "clamped")], name)
