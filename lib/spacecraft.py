@@ -1,0 +1,188 @@
+"""The whole spacecraft: hub, T-truss, two solar panels on SADMs, antenna, four PMAs.
+
+Paper: section "System Modeling / Full order LPV model" and its open-loop figure. The
+open-loop model ``G(s)`` (order 1324 with order-20 beams) has
+
+* 12 inputs: ``p_SP1, p_SP2`` (SADM disturbance torques [N m]), ``W_P1`` (6, wrench on the
+  hub at its CoG P1: force [N], moment [N m]), ``u_PMA1..4`` (PMA forces [N]);
+* 20 outputs: ``LOS`` elevation/azimuth angular accelerations (2, [rad/s^2]: the angular
+  acceleration of the antenna node N20 about x and y), ``x_PMA1..4`` (proof-mass strokes [m]),
+  ``a_P1`` (6: [m/s^2], [rad/s^2]), and the linear and angular accelerations of N17 and N20
+  along and around x and y (8).
+
+Parameters are plain numbers here (h, theta and the uncertain hub mass, hub Iyy and first
+panel frequency); their LFT form is the subject of ``lib.lft`` (next issue).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import control as ct
+import numpy as np
+
+from . import bodies, frames, paths
+from .ports import MultiPortModel, connect
+from .reduction import static_gain
+from .titop import Section
+from .truss import t_truss, truss_members, truss_nodes
+
+__all__ = ["load_parameters", "OpenLoop", "open_loop", "INPUTS", "OUTPUTS", "component_masses", "truss_mass"]
+
+INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
+OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+           + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
+
+
+@lru_cache(maxsize=1)
+def load_parameters() -> dict:
+    """The spacecraft parameters of ``data/spacecraft/parameters.json``."""
+    return json.loads((paths.DATA / "spacecraft" / "parameters.json").read_text())
+
+
+def _finite(value: float, name: str, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    if not np.isfinite(value) or (positive and value <= 0):
+        raise ValueError(f"{name} must be a finite{' positive' if positive else ''} number, got {value!r}")
+    return float(value)
+
+
+def truss_mass(h: float, params: dict | None = None) -> float:
+    """T-truss mass ``rho h^2 * (total beam length)`` [kg] (183.11 kg at h = 3 cm)."""
+    p = params or load_parameters()
+    h = _finite(h, "h", positive=True)
+    nodes = truss_nodes(p["truss"]["cube_side"])
+    length = sum(np.linalg.norm(nodes[a] - nodes[b]) for a, b in truss_members(p["truss"]["cube_side"]))
+    return p["truss"]["density"] * h**2 * length
+
+
+def component_masses(h: float, hub_mass: float | None = None, params: dict | None = None) -> dict[str, float]:
+    """Mass of each component [kg]: hub, truss, panels, antenna, PMAs (casing + proof mass)."""
+    p = params or load_parameters()
+    pm = p["pma"]
+    return {
+        "hub": p["hub"]["mass"] if hub_mass is None else hub_mass,
+        "truss": truss_mass(h, p),
+        "solar_panels": 2 * p["solar_panel"]["mass"],
+        "antenna": p["antenna"]["mass"],
+        "pmas": 4 * (pm["casing_mass"] + pm["proof_mass"]),
+    }
+
+
+@dataclass
+class OpenLoop:
+    """The open-loop spacecraft model and its parts.
+
+    Attributes
+    ----------
+    G : control.StateSpace
+        12-input, 20-output model with named signals (``INPUTS``, ``OUTPUTS``).
+    model : MultiPortModel
+        The assembled multi-port model (all ports), spacecraft frame (origin P1).
+    blocks : dict
+        The blocks: hub, truss, panels, antenna, PMA block.
+    parameters : dict
+        The values used (h, theta, hub mass and Iyy, first panel frequency, SADM k, f).
+    """
+
+    G: ct.StateSpace
+    model: MultiPortModel
+    blocks: dict[str, MultiPortModel] = field(repr=False)
+    parameters: dict[str, float]
+
+    def rigid_mass_at_p1(self) -> np.ndarray:
+        """Rigid mass matrix of the whole spacecraft at P1 (6x6): the inverse of the DC gain ``W_P1 -> a_P1``."""
+        dc = static_gain(self.model)
+        i = self.model.channels("P1")
+        return np.linalg.inv(dc[np.ix_(i, i)])
+
+    def mass(self) -> float:
+        """Spacecraft mass [kg] from the DC gain ``W_P1 -> a_P1``, as the paper does.
+
+        The 6x6 DC gain is inverted first: the spacecraft's CoG is not at P1, so the
+        translational entries of the gain alone are not 1/m.
+        """
+        return float(self.rigid_mass_at_p1()[0, 0])
+
+
+def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None,
+              panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None) -> OpenLoop:
+    """Build the open-loop spacecraft model ``G(s)``.
+
+    Parameters
+    ----------
+    h : float
+        Side of the truss beams' square section [m] (the paper's range 0.015-0.03).
+    theta : float
+        Solar panel angle [rad] (both panels), about the spacecraft x axis.
+    hub_mass, hub_iyy, panel_omega1 : float, optional
+        Hub mass [kg], hub inertia Iyy [kg m^2], first panel frequency [rad/s]
+        (default: the nominal values).
+    n_modes : int
+        Beam basis enrichment (1: order-20 beams, G of order 1324).
+    params : dict, optional
+        Parameters (default: ``data/spacecraft/parameters.json``).
+
+    Raises
+    ------
+    ValueError
+        For non-positive h, masses, inertias or frequencies, or a non-finite theta.
+    """
+    p = params or load_parameters()
+    h = _finite(h, "h", positive=True)
+    theta = _finite(theta, "theta")
+    hub = p["hub"]
+    m_hub = _finite(hub["mass"] if hub_mass is None else hub_mass, "hub_mass", positive=True)
+    inertia = np.array(hub["inertia"], dtype=float)
+    inertia[1, 1] = _finite(inertia[1, 1] if hub_iyy is None else hub_iyy, "hub_iyy", positive=True)
+    sp = p["solar_panel"]
+    omega = np.array(sp["omega"], dtype=float)
+    omega[0] = _finite(omega[0] if panel_omega1 is None else panel_omega1, "panel_omega1", positive=True)
+    ch = p["choices"]
+    tr = p["truss"]
+
+    # Hub: the truss base points carry the truss node names.
+    points = dict(hub["points"])
+    rename = {v: k for k, v in tr["base_points"].items()}
+    hub_model = bodies.rigid_hub(m_hub, inertia, {rename.get(k, k): v for k, v in points.items()})
+
+    section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
+    origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
+    truss_model = t_truss(section, tr["cube_side"], n_modes).translate(origin)
+
+    panels = {}
+    for label, turn in (("SP1", np.pi / 2), ("SP2", -np.pi / 2)):
+        rot = frames.rot_x(theta) @ frames.rot_z(turn)
+        axis = frames.rot_z(turn).T @ np.array([1.0, 0.0, 0.0])  # spacecraft x in the panel frame
+        node = sp["points"][label]
+        panels[label] = bodies.solar_panel(node, points[node], rot, sp["mass"], sp["r_og"], sp["inertia_g"], omega, sp["damping"],
+                                           sp["factors"], axis, ch["sadm_stiffness"], ch["sadm_friction"], label=label)
+
+    ant = p["antenna"]
+    n20 = origin + truss_nodes(tr["cube_side"])[ant["node"]]
+    antenna = bodies.rigid_appendage(ant["mass"], ant["inertia"], ant["node"], n20, name="ANT")
+
+    pm = p["pma"]
+    turns = {"x": frames.rot_z(-np.pi / 2), "y": np.eye(3)}  # the PMA axis v = y of its frame
+    pma_list = []
+    for i, spec in enumerate(ch["pma_layout"], start=1):
+        pos = origin + truss_nodes(tr["cube_side"])[spec["node"]]
+        pma_list.append(bodies.pma(spec["node"], pos, turns[spec["direction"]], pm["casing_mass"], pm["casing_inertia"], pm["r_og"],
+                                   pm["proof_mass"], pm["stiffness"], pm["damping"], pm["axis"], pm["r_op"], label=f"PMA{i}"))
+    pma_model = bodies.pma_block(pma_list)
+
+    model = connect([hub_model, truss_model, panels["SP1"], panels["SP2"], antenna, pma_model], name="spacecraft")
+    sys = model.to_statespace()
+    in_names = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
+    out_names = (["a_N20_Rx", "a_N20_Ry"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+                 + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
+    ii = [sys.input_labels.index(n) for n in in_names]
+    oo = [sys.output_labels.index(n) for n in out_names]
+    g = ct.ss(model.a, model.b[:, ii], model.c[oo, :], model.d[np.ix_(oo, ii)], inputs=INPUTS, outputs=OUTPUTS, name="G")
+    blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
+    values = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
+                  sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"])
+    return OpenLoop(g, model, blocks, values)
