@@ -1,0 +1,55 @@
+"""Benchmark: time to build the open-loop spacecraft model G at one h (order 1324).
+
+Prints the timings and saves them to benchmarks/results/build_open_loop.json.
+Run: python benchmarks/build_open_loop.py [--repeat N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from lib import reduction, spacecraft, truss, titop
+
+
+def timed(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return out, float(np.median(times)), float(np.min(times))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+    spacecraft.open_loop(0.03)  # warm caches (root finding, parameter file)
+    rows = {}
+    _, med, best = timed(lambda: titop.clamped_free(1.0, titop.Section.square(0.03)), args.repeat)
+    rows["beam (order 20)"] = (med, best)
+    _, med, best = timed(lambda: truss.t_truss(titop.Section.square(0.03)), args.repeat)
+    rows["T-truss (order 1300)"] = (med, best)
+    ol, med, best = timed(lambda: spacecraft.open_loop(0.02139), args.repeat)
+    rows["open-loop G (order 1324)"] = (med, best)
+    _, med, best = timed(lambda: reduction.split_slow(ol.G.A, ol.G.B, ol.G.C, ol.G.D), max(1, args.repeat // 2))
+    rows["removal of the 540 slow poles"] = (med, best)
+    print(f"{'step':34s} {'median [s]':>11s} {'best [s]':>9s}")
+    for name, (med, best) in rows.items():
+        print(f"{name:34s} {med:11.3f} {best:9.3f}")
+    out = Path(__file__).resolve().parent / "results"
+    out.mkdir(exist_ok=True)
+    payload = {"machine": {"python": platform.python_version(), "processor": platform.processor(), "machine": platform.machine()},
+               "repeat": args.repeat, "seconds": {k: {"median": v[0], "best": v[1]} for k, v in rows.items()}}
+    (out / "build_open_loop.json").write_text(json.dumps(payload, indent=2) + "\n")
+    print(f"saved {out / 'build_open_loop.json'}")
+
+
+if __name__ == "__main__":
+    main()

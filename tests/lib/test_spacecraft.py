@@ -1,0 +1,125 @@
+"""T-truss and spacecraft open loop: masses, orders, FE cross-check, PMA, SADM joint, bad input."""
+
+import numpy as np
+import pytest
+
+from lib import bodies, frames, opensees_fe, ports, reduction, spacecraft, titop, truss
+
+H_VALUES = [0.015, 0.02139, 0.03]
+PARAMS = spacecraft.load_parameters()
+
+
+@pytest.fixture(scope="module")
+def nominal():
+    return spacecraft.open_loop(0.03)
+
+
+def test_truss_geometry_and_mass():
+    nodes, members = truss.truss_nodes(), truss.truss_members()
+    assert len(nodes) == 24 and len(members) == 65 and len({tuple(sorted(m)) for m in members}) == 65
+    pos = np.array(list(nodes.values()))
+    np.testing.assert_allclose(pos.max(axis=0) - pos.min(axis=0), [1.0, 3.0, 3.0])
+    # N17 directly below N20, N20 on the top plane
+    np.testing.assert_allclose(nodes["N20"] - nodes["N17"], [0.0, 0.0, 1.0])
+    assert nodes["N20"][2] == pos[:, 2].max()
+    assert abs(spacecraft.truss_mass(0.03) / 183.11 - 1) < 1e-3
+
+
+@pytest.mark.parametrize("h", H_VALUES)
+def test_dc_gain_mass_equals_sum_of_components(h):
+    ol = spacecraft.open_loop(h)
+    total = sum(spacecraft.component_masses(h).values())
+    assert abs(ol.mass() / total - 1) < 1e-6
+
+
+def test_orders_and_signals(nominal):
+    assert nominal.blocks["truss"].nstates == 1300
+    assert nominal.blocks["truss"].nchannels == 36
+    assert nominal.blocks["pmas"].nstates == 8 and nominal.blocks["pmas"].nchannels == 16
+    assert nominal.blocks["hub"].nchannels == 42 and nominal.blocks["hub"].nstates == 0
+    g = nominal.G
+    assert (g.nstates, g.ninputs, g.noutputs) == (1324, 12, 20)
+    assert g.input_labels == spacecraft.INPUTS and g.output_labels == spacecraft.OUTPUTS
+
+
+def test_near_zero_poles_are_spurious(nominal):
+    g = nominal.G
+    split = reduction.split_slow(g.A, g.B, g.C, g.D)
+    assert split.n_slow == 540  # 45 loop-closing inversions x 12
+    assert split.contribution < 1e-8
+    poles = np.linalg.eigvals(split.fast[0])
+    assert poles.real.max() < 0  # the remaining (physical) poles are stable
+    # the removed part does not change the input-output behaviour
+    w = np.logspace(-3, 4, 12)
+    full = ports.frequency_response(g.A, g.B, g.C, g.D, w)
+    red = ports.frequency_response(*split.fast, w)
+    assert np.max(np.max(np.abs(full - red), axis=(0, 1)) / np.max(np.abs(full), axis=(0, 1))) < 1e-8
+
+
+@pytest.mark.parametrize("h", H_VALUES)
+def test_clamped_truss_matches_opensees(h):
+    sec = titop.Section.square(h)
+    model = truss.t_truss(sec)
+    p = model.poles()
+    f = np.sort(np.abs(p[(p.imag > 0) & (np.abs(p) > 1e-2)]))[:15]
+    fe = opensees_fe.frame_frequencies(truss.truss_nodes(), truss.truss_members(), sec, ["N1", "N2", "N3", "N4"], 10, "consistent", 15)
+    assert np.all(np.abs(f / fe - 1) < 5e-3)
+
+
+def test_pma_alone_on_clamped_base():
+    pm = PARAMS["pma"]
+    model = bodies.pma("N", [0, 0, 0], np.eye(3), pm["casing_mass"], pm["casing_inertia"], pm["r_og"], pm["proof_mass"],
+                       pm["stiffness"], pm["damping"])
+    p = model.poles()
+    w_n = np.sqrt(pm["stiffness"] / pm["proof_mass"])
+    zeta = pm["damping"] / (2 * np.sqrt(pm["stiffness"] * pm["proof_mass"]))
+    np.testing.assert_allclose(np.abs(p), [w_n, w_n], rtol=1e-12)
+    np.testing.assert_allclose(-p.real / np.abs(p), [zeta, zeta], rtol=1e-12)
+    dc = model.d - model.c @ np.linalg.solve(model.a, model.b)
+    assert np.isclose(dc[6, 6], 1.0 / pm["stiffness"], rtol=1e-12)
+    total = pm["casing_mass"] + pm["proof_mass"]
+    np.testing.assert_allclose(np.diag(dc)[:3], -total, rtol=1e-12)
+
+
+def test_sadm_joint_is_a_stiff_damped_spring():
+    sp = PARAMS["solar_panel"]
+    ch = PARAMS["choices"]
+    rot = frames.rot_z(np.pi / 2)
+    axis = rot.T @ [1.0, 0.0, 0.0]
+    panel = bodies.solar_panel("P6", [1, 0, 0], rot, sp["mass"], sp["r_og"], sp["inertia_g"], sp["omega"], sp["damping"],
+                               sp["factors"], axis, ch["sadm_stiffness"], ch["sadm_friction"], label="SP1")
+    p = panel.poles()
+    assert panel.nstates == 8 and p.real.max() < 0
+    # the panel's CoG lies outboard along +x at theta = 0: its rigid mass at P6 couples Ty with Rz like a mass at x = +2
+    dc = panel.d - panel.c @ np.linalg.solve(panel.a, panel.b)  # no poles at 0: k > 0
+    i = panel.channels("P6")
+    d_p6 = -dc[np.ix_(i, i)]
+    assert np.isclose(d_p6[0, 0], sp["mass"])
+    r_g = np.array([2.0, 0.0, 0.03])
+    np.testing.assert_allclose(d_p6[:3, 3:], sp["mass"] * frames.skew(r_g).T, atol=1e-9)
+    # a static SADM torque p (hub on panel, about +x) deflects the joint by p / k
+    s = panel.channels("SP1")[0]
+    assert np.isclose(dc[s, s], 1.0 / ch["sadm_stiffness"], rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [(dict(h=0.0), "h"), (dict(h=-0.01), "h"), (dict(theta=np.inf), "theta"), (dict(hub_mass=-800.0), "hub_mass"),
+     (dict(hub_iyy=0.0), "hub_iyy"), (dict(panel_omega1=float("nan")), "panel_omega1")],
+)
+def test_bad_values_raise(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        spacecraft.open_loop(**kwargs)
+
+
+def test_bad_body_values_raise():
+    with pytest.raises(ValueError, match="mass"):
+        bodies.rigid_hub(-1.0, np.eye(3), {"P1": [0, 0, 0]})
+    with pytest.raises(ValueError, match="inertia"):
+        bodies.rigid_appendage(1.0, -np.eye(3), "N", [0, 0, 0])
+    with pytest.raises(ValueError, match="stiffness"):
+        bodies.pma("N", [0, 0, 0], np.eye(3), 0.5, np.eye(3) * 1e-3, [0, 0.05, 0], 0.1, 0.0, 1.4)
+    sp = PARAMS["solar_panel"]
+    with pytest.raises(ValueError, match="stiffness"):
+        bodies.solar_panel("P6", [1, 0, 0], np.eye(3), sp["mass"], sp["r_og"], sp["inertia_g"], sp["omega"], sp["damping"],
+                           sp["factors"], [1, 0, 0], 0.0, 1.0)
