@@ -19,7 +19,7 @@ from scipy import linalg
 
 from .ports import MultiPortModel, frequency_response
 
-__all__ = ["SlowSplit", "split_slow", "remove_slow_poles", "static_gain"]
+__all__ = ["SlowSplit", "split_slow", "ModalReduction", "modal_reduction", "remove_slow_poles", "static_gain"]
 
 
 @dataclass(frozen=True)
@@ -46,40 +46,97 @@ class SlowSplit:
     contribution: float
 
 
+def _block_split(a: NDArray, b: NDArray, c: NDArray, select) -> tuple[int, tuple[NDArray, NDArray, NDArray], tuple[NDArray, NDArray, NDArray]]:
+    """Block-diagonalise ``(A, B, C)`` into the eigenvalues selected by ``select(re, im)`` and the rest.
+
+    A is balanced by a diagonal similarity first (TITOP models mix states of very
+    different scales: ||A|| ~ 1e10 for the T-truss, 3e5 once balanced, and the split
+    is then accurate to 1e-11 instead of 1e-5). The ordered real Schur form
+    ``A = Z [[T_1, T_12], [0, T_2]] Z^T`` is made block diagonal by solving
+    ``T_1 X - X T_2 = -T_12``. Returns ``k`` and ``(T_1, B_1, C_1)``, ``(T_2, B_2, C_2)``.
+    """
+    _, (scale, _) = linalg.matrix_balance(a, permute=False, separate=True)
+    a = (a / scale[:, None]) * scale[None, :]
+    b = b / scale[:, None]
+    c = c * scale[None, :]
+    t, z, k = linalg.schur(a, output="real", sort=select)
+    if k == 0 or k == a.shape[0]:
+        bz, cz = z.T @ b, c @ z
+        return k, (t[:k, :k], bz[:k], cz[:, :k]), (t[k:, k:], bz[k:], cz[:, k:])
+    t1, t12, t2 = t[:k, :k], t[:k, k:], t[k:, k:]
+    x = linalg.solve_sylvester(t1, -t2, -t12)
+    bz, cz = z.T @ b, c @ z
+    # Similarity [[I, X], [0, I]]: B -> [[I, -X], [0, I]] B, C -> C [[I, X], [0, I]].
+    return k, (t1, bz[:k] - x @ bz[k:], cz[:, :k]), (t2, bz[k:], cz[:, k:] + cz[:, :k] @ x)
+
+
 def split_slow(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: float = 0.01) -> SlowSplit:
     """Split a model into its slow (|s| < ``omega_min`` rad/s) and fast parts.
 
-    A is first balanced by a diagonal similarity (TITOP models mix states of very
-    different scales: ||A|| ~ 1e10 for the T-truss, 3e5 once balanced, and the
-    split is then accurate to 1e-11 instead of 1e-5). The ordered real Schur form
-    ``A = Z [[T_s, T_sf], [0, T_f]] Z^T`` is made block diagonal by solving
-    ``T_s X - X T_f = -T_sf``; the fast part keeps ``(T_f, B_f, C_f, D)`` exactly.
+    See :func:`_block_split`; the fast part keeps ``(T_f, B_f, C_f, D)`` exactly and
+    the slow part's frequency response is measured before it is dropped.
     """
     if not omega_min > 0:
         raise ValueError(f"omega_min must be positive [rad/s], got {omega_min!r}")
     n = a.shape[0]
     if n == 0:
         return SlowSplit((a, b, c, d), 0, np.zeros(0, complex), 0.0)
-    _, (scale, _) = linalg.matrix_balance(a, permute=False, separate=True)
-    a = (a / scale[:, None]) * scale[None, :]
-    b = b / scale[:, None]
-    c = c * scale[None, :]
-    t, z, k = linalg.schur(a, output="real", sort=lambda re, im: np.hypot(re, im) < omega_min)
+    k, (ts, b_s, c_s), (tf, b_f, c_f) = _block_split(a, b, c, lambda re, im: np.hypot(re, im) < omega_min)
     if k == 0:
-        return SlowSplit((a, b, c, d), 0, np.zeros(0, complex), 0.0)
-    ts, tsf, tf = t[:k, :k], t[:k, k:], t[k:, k:]
-    x = linalg.solve_sylvester(ts, -tf, -tsf)
-    bz, cz = z.T @ b, c @ z
-    # Block-diagonalising similarity [[I, X], [0, I]]: B -> [[I, -X], [0, I]] B, C -> C [[I, X], [0, I]].
-    b_s = bz[:k] - x @ bz[k:]
-    b_f = bz[k:]
-    c_s = cz[:, :k]
-    c_f = cz[:, k:] + cz[:, :k] @ x
+        return SlowSplit((tf, b_f, c_f, d.copy()), 0, np.zeros(0, complex), 0.0)
     omega = omega_min * np.logspace(0, 4, 9)
     g_slow = frequency_response(ts, b_s, c_s, np.zeros_like(d), omega)
     g_all = frequency_response(tf, b_f, c_f, d, omega) + g_slow
     contrib = max(np.linalg.norm(g_slow[:, :, i], 2) / max(np.linalg.norm(g_all[:, :, i], 2), 1e-300) for i in range(omega.size))
     return SlowSplit((tf, b_f, c_f, d.copy()), k, linalg.eigvals(ts), float(contrib))
+
+
+@dataclass(frozen=True)
+class ModalReduction:
+    """Result of :func:`modal_reduction`.
+
+    Attributes
+    ----------
+    reduced : tuple of ndarray
+        ``(A, B, C, D)`` of the reduced model.
+    n_slow, n_high : int
+        Poles removed below ``omega_min`` (spurious) and above ``omega_max``.
+    slow_contribution : float
+        Relative input-output contribution of the removed slow part (see :class:`SlowSplit`).
+    """
+
+    reduced: tuple[NDArray, NDArray, NDArray, NDArray]
+    n_slow: int
+    n_high: int
+    slow_contribution: float
+
+
+def modal_reduction(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: float = 0.01,
+                    omega_max: float | None = None, max_contribution: float = 1e-6) -> ModalReduction:
+    """Modal reduction of the paper: ``G_r_low`` (``omega_max=None``) or ``G_r``.
+
+    The spurious slow poles (|s| < ``omega_min``) are removed after checking that they
+    carry no input-output contribution; the modes above ``omega_max`` [rad/s] are removed
+    by residualisation (their static contribution ``-C_h A_h^-1 B_h`` is added to D), so
+    that the DC gain, hence the mass seen by the model, is unchanged.
+
+    Raises
+    ------
+    ValueError
+        If the slow part is not spurious (contribution above ``max_contribution``).
+    """
+    split = split_slow(a, b, c, d, omega_min)
+    if split.contribution > max_contribution:
+        raise ValueError(f"the {split.n_slow} poles below {omega_min} rad/s contribute {split.contribution:.1e} "
+                         f"(> {max_contribution:.0e}) of the response: they are not spurious")
+    af, bf, cf, df = split.fast
+    if omega_max is None:
+        return ModalReduction((af, bf, cf, df), split.n_slow, 0, split.contribution)
+    if not omega_max > omega_min:
+        raise ValueError(f"omega_max must exceed omega_min = {omega_min} rad/s, got {omega_max!r}")
+    k, (tk, bk, ck), (th, bh, ch) = _block_split(af, bf, cf, lambda re, im: np.hypot(re, im) <= omega_max)
+    dr = df - ch @ np.linalg.solve(th, bh) if th.shape[0] else df.copy()
+    return ModalReduction((tk, bk, ck, dr), split.n_slow, th.shape[0], split.contribution)
 
 
 def remove_slow_poles(model: MultiPortModel, omega_min: float = 0.01, max_contribution: float = 1e-6) -> MultiPortModel:
