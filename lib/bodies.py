@@ -56,17 +56,21 @@ def rigid_mass_matrix(mass: float, inertia_g: ArrayLike, r_pg: ArrayLike = (0.0,
     return t_gp.T @ linalg.block_diag(mass * np.eye(3), j) @ t_gp
 
 
-def rigid_hub(mass: float, inertia: ArrayLike, ports: Mapping[str, ArrayLike], reference: str = "P1") -> MultiPortModel:
+def rigid_hub(mass, inertia: ArrayLike, ports: Mapping[str, ArrayLike], reference: str = "P1", iyy=None) -> MultiPortModel:
     """Static multi-port model of a free-floating rigid body (direct dynamics).
 
     Parameters
     ----------
-    mass : float
-        Mass [kg].
+    mass : float or lib.lft.Parameter
+        Mass [kg]; a Parameter makes it uncertain (3 occurrences: ``1/m`` on the
+        three translations).
     inertia : array_like (3, 3)
         Inertia at the CoG, which is the ``reference`` port [kg m^2].
     ports : mapping name -> position (3,)
         Connection points [m] in the body frame (the reference at the CoG).
+    iyy : lib.lft.Parameter, optional
+        Makes ``inertia[1, 1]`` uncertain (1 occurrence); the y axis must then be a
+        principal axis (``inertia[0, 1] = inertia[1, 2] = 0``).
 
     Returns
     -------
@@ -75,14 +79,31 @@ def rigid_hub(mass: float, inertia: ArrayLike, ports: Mapping[str, ArrayLike], r
         their accelerations, ``a = T D^-1 T^T W`` with ``a_Pi = tau(r_Pi P1) a_P1``
         (6N x 6N, no state; 42x42 for the paper's seven points).
     """
-    d = rigid_mass_matrix(mass, inertia)
+    from .lft import LFT, Parameter
+
+    m_nom = mass.center if isinstance(mass, Parameter) else mass
+    j = _mass_inertia(m_nom, inertia).copy()
     if reference not in ports:
         raise ValueError(f"reference port {reference!r} must be one of the ports {list(ports)}")
     r_ref = frames.as_vector3(ports[reference], "reference position")
     t = np.vstack([frames.tau(r_ref - frames.as_vector3(r, f"position of {n}")) for n, r in ports.items()])
-    dd = t @ np.linalg.solve(d, t.T)
     plist = [node_port(n, r, "free") for n, r in ports.items()]
-    return MultiPortModel(np.zeros((0, 0)), np.zeros((0, dd.shape[0])), np.zeros((dd.shape[0], 0)), dd, plist, "hub")
+    if not isinstance(mass, Parameter) and iyy is None:
+        dd = t @ np.linalg.solve(rigid_mass_matrix(m_nom, j), t.T)
+        return MultiPortModel(np.zeros((0, 0)), np.zeros((0, dd.shape[0])), np.zeros((dd.shape[0], 0)), dd, plist, "hub")
+    t_t, t_r = t[:, :3], t[:, 3:]
+    inv_m = LFT.param(mass).inv() if isinstance(mass, Parameter) else LFT.constant([[1.0 / m_nom]])
+    if iyy is None:
+        rot = LFT.constant(t_r @ np.linalg.solve(j, t_r.T))
+    else:
+        if abs(j[0, 1]) > 0 or abs(j[1, 2]) > 0:
+            raise ValueError("an uncertain Iyy needs y to be a principal axis of the inertia (Ixy = Iyz = 0)")
+        xz = [0, 2]
+        inv_xz = np.zeros((3, 3))
+        inv_xz[np.ix_(xz, xz)] = np.linalg.inv(j[np.ix_(xz, xz)])
+        rot = LFT.constant(t_r @ inv_xz @ t_r.T) + np.outer(t_r[:, 1], t_r[:, 1]) * LFT.param(iyy).inv()
+    hub = (t_t @ t_t.T) * inv_m + rot
+    return MultiPortModel.from_lft(hub, plist, "hub")
 
 
 def rigid_appendage(mass: float, inertia_g: ArrayLike, node: str, position: ArrayLike, r_pg: ArrayLike = (0.0, 0.0, 0.0),
@@ -154,7 +175,7 @@ def pma_block(pmas: list[MultiPortModel]) -> MultiPortModel:
 
 def solar_panel(node: str, position: ArrayLike, rotation: ArrayLike, mass: float, r_og: ArrayLike, inertia_g: ArrayLike,
                 omega: ArrayLike, damping: float | ArrayLike, factors: ArrayLike, joint_axis: ArrayLike, stiffness: float,
-                friction: float, label: str = "SP") -> MultiPortModel:
+                friction: float, label: str = "SP", omega1=None, tau=None) -> MultiPortModel:
     """Flexible solar panel on a revolute joint driven by a SADM, expressed in the parent frame.
 
     Steps (``docs/titop_math.md`` section f): the single-port flexible model of the panel
@@ -180,13 +201,19 @@ def solar_panel(node: str, position: ArrayLike, rotation: ArrayLike, mass: float
         Unit joint axis in the panel frame.
     stiffness, friction : float
         SADM stiffness k [N m/rad] (> 0) and viscous friction f [N m s/rad] (>= 0).
+    omega1 : lib.lft.Parameter, optional
+        Uncertain first panel frequency (2 occurrences, see :func:`lib.modal.cantilever_from_modes`).
+    tau : lib.lft.Parameter, optional
+        Uncertain panel angle through ``tau = tan(theta / 4)``: ``rotation`` is then the
+        base DCM at theta = 0 and the model is ``R6(tau) M R6(tau)^T`` (16 occurrences:
+        8 for the twice DCM on each side).
 
     Returns
     -------
     MultiPortModel
         Ports: the node (clamped), and a scalar port ``label`` with input ``p_<label>``
         (SADM disturbance torque [N m]) and output ``theta_<label>`` (joint angle
-        deflection [rad]). 2 n + 2 states.
+        deflection [rad]), then the delta ports of omega1 and tau if any. 2 n + 2 states.
     """
     if not (np.isfinite(stiffness) and stiffness > 0):
         raise ValueError(f"stiffness must be a finite positive number [N m/rad] (k = 0 leaves a free joint), got {stiffness!r}")
@@ -196,34 +223,34 @@ def solar_panel(node: str, position: ArrayLike, rotation: ArrayLike, mass: float
     if not np.isclose(np.linalg.norm(e3), 1.0):
         raise ValueError(f"joint_axis must be a unit vector, got {joint_axis!r}")
     d_o = rigid_mass_matrix(mass, inertia_g, r_og)
-    flex = cantilever_from_modes(d_o, omega, factors, damping, node=node, name=label)
-    e = np.r_[0.0, 0.0, 0.0, e3]
-    # 1. Augment: inputs [a_O (6); theta''], outputs [W_O (6); e^T W_O].
-    t_in = np.hstack([np.eye(6), e[:, None]])
-    t_out = np.vstack([np.eye(6), e[None, :]])
-    aug = MultiPortModel(flex.a, flex.b @ t_in, t_out @ flex.c, t_out @ flex.d @ t_in,
-                         [node_port(node, np.zeros(3), "clamped"), scalar_port("joint", "thetadd", "Tj")], label)
-    # 2. Invert the joint channel: input e^T W (torque of the panel on the hub), output theta''.
-    inv = aug.invert([6])
+    flex = cantilever_from_modes(d_o, omega, factors, damping, node=node, name=label, omega1=omega1)
+    # 1. Augment with the joint: theta'' adds e theta'' to the root acceleration; e^T W is the
+    #    torque of the panel on the hub about the axis. 2. Invert that scalar channel.
+    aug = flex.with_axis_channel(node, np.r_[0.0, 0.0, 0.0, e3], "joint", "thetadd", "Tj")
+    inv = aug.invert(aug.channels("joint"))
     # 3. Close the SADM loop with two integrators: e^T W = -T = k theta + f theta' - p.
-    n = inv.nstates
+    n_ch, j = inv.nchannels, inv.offset("joint")
     a = linalg.block_diag(inv.a, np.array([[0.0, 1.0], [0.0, 0.0]]))
     b = linalg.block_diag(inv.b, np.array([[0.0], [1.0]]))
     c = linalg.block_diag(inv.c, np.eye(2))
     d = linalg.block_diag(inv.d, np.zeros((2, 1)))
-    # stacked inputs: [a (6), eTW (1), theta'' into integrators (1)]; outputs: [W (6), theta'' (1), theta, theta']
-    kmat = np.zeros((8, 9))
-    kmat[6, 7] = stiffness
-    kmat[6, 8] = friction
-    kmat[7, 6] = 1.0
-    emat = np.zeros((8, 7))
-    emat[:6, :6] = np.eye(6)
-    emat[6, 6] = -1.0  # p
-    fmat = np.zeros((7, 9))
-    fmat[:6, :6] = np.eye(6)
-    fmat[6, 7] = 1.0  # theta
-    a2, b2, c2, d2 = close_static(a, b, c, d, kmat, emat, fmat, np.zeros((7, 7)))
-    assert a2.shape[0] == n + 2
-    ports = [node_port(node, np.zeros(3), "clamped"), scalar_port(label, f"p_{label}", f"theta_{label}")]
-    model = MultiPortModel(a2, b2, c2, d2, ports, label)
+    # stacked inputs: [inv channels, integrator input]; outputs: [inv channels, theta, theta']
+    kmat = np.zeros((n_ch + 1, n_ch + 2))
+    kmat[j, n_ch] = stiffness
+    kmat[j, n_ch + 1] = friction
+    kmat[n_ch, j] = 1.0
+    # external channels: the node (6), p (replacing the joint input), then the delta ports
+    node_ch = inv.channels(node)
+    delta_ch = [i for p in inv.delta_ports for i in inv.channels(p.name)]
+    ext = node_ch + [j] + delta_ch
+    emat = np.zeros((n_ch + 1, len(ext)))
+    fmat = np.zeros((len(ext), n_ch + 2))
+    for col, ch in enumerate(ext):
+        emat[ch, col] = -1.0 if ch == j else 1.0  # joint input gets -p
+        fmat[col, n_ch if ch == j else ch] = 1.0  # joint slot outputs theta
+    a2, b2, c2, d2 = close_static(a, b, c, d, kmat, emat, fmat, np.zeros((len(ext), len(ext))))
+    ports = [node_port(node, np.zeros(3), "clamped"), scalar_port(label, f"p_{label}", f"theta_{label}")] + inv.delta_ports
+    model = MultiPortModel(a2, b2, c2, d2, ports, label, inv.params)
+    if tau is not None:
+        return model.reproject_lft(frames.twice_dcm_lft(tau, rotation)).translate(position)
     return model.reproject(rotation).translate(position)

@@ -26,6 +26,8 @@ __all__ = [
     "rot_z",
     "beam_frame",
     "as_vector3",
+    "rot_x_lft",
+    "twice_dcm_lft",
 ]
 
 
@@ -152,3 +154,33 @@ def beam_frame(r_p: ArrayLike, r_c: ArrayLike, y_hint: ArrayLike | None = None) 
         ey /= np.linalg.norm(ey)
         ez = np.cross(ex, ey)
     return np.column_stack([ex, ey, ez])
+
+
+def rot_x_lft(tau_param):
+    """Rotation about x by ``theta = 4 arctan(tau)`` as an exact LFT in ``tau`` (4 occurrences).
+
+    With ``J = [[0, -1], [1, 0]]`` the Cayley transform ``(I + tau J)(I - tau J)^-1 =
+    -I + 2 (I - tau J)^-1`` is the plane rotation by ``2 arctan(tau) = theta / 2``
+    (2 occurrences of tau); its square is the rotation by theta. ``tau`` in [-1, 1]
+    covers ``theta`` in [-pi, pi]. Same convention as :func:`rot_x`.
+
+    Parameters
+    ----------
+    tau_param : lib.lft.Parameter
+        The parameter tau = tan(theta / 4).
+    """
+    from .lft import LFT  # local import: lft builds on ports, which builds on this module
+
+    tau = LFT.param(tau_param)
+    jmat = np.array([[0.0, -1.0], [1.0, 0.0]])
+    half = -1.0 * LFT.constant(np.eye(2)) + 2.0 * (LFT.constant(np.eye(2)) - tau * jmat).inv()
+    return LFT.blkdiag(LFT.constant([[1.0]]), half @ half)
+
+
+def twice_dcm_lft(tau_param, base: ArrayLike | None = None):
+    """Twice DCM ``diag(R, R)`` with ``R = rot_x(theta) @ base`` as an LFT in tau (8 occurrences)."""
+    from .lft import LFT
+
+    rx = rot_x_lft(tau_param)
+    r3 = rx if base is None else rx @ _check_rotation(base, "base")
+    return LFT.blkdiag(r3, r3)

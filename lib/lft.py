@@ -89,6 +89,21 @@ class Parameter:
         return self.center + self.half_range * float(delta)
 
 
+def _delta_values(params: Mapping[str, Parameter], values: Mapping[str, float], normalized: bool) -> dict[str, float]:
+    """Normalised values of the given parameters, checked against their ranges."""
+    out = {}
+    for name, val in values.items():
+        if name not in params:
+            raise ValueError(f"unknown parameter {name!r}; parameters are {sorted(params)}")
+        if normalized:
+            if not abs(float(val)) <= 1.0 + 1e-12:
+                raise ValueError(f"normalised value of {name!r} must be in [-1, 1], got {val!r}")
+            out[name] = float(val)
+        else:
+            out[name] = params[name].to_delta(val)
+    return out
+
+
 def _ss(a, b, c, d):
     a = np.atleast_2d(np.asarray(a, float)) if np.size(a) else np.zeros((0, 0))
     d = np.atleast_2d(np.asarray(d, float))
@@ -369,6 +384,13 @@ class LFT:
             raise ValueError(f"singular inverse: the feedthrough at nominal (delta = 0) is not invertible ({exc})") from None
         return LFT(a, b, c, d, self.blocks, self.params)
 
+    @property
+    def T(self) -> "LFT":
+        """Transpose of a static LFT: ``F_u(M, Delta)^T = F_u(M^T, Delta)`` (Delta is diagonal)."""
+        if self.nstates:
+            raise ValueError("transpose is defined here for static LFTs only")
+        return LFT(self.a, self.c.T, self.b.T, self.d.T, self.blocks, self.params)
+
     def feedback(self, other=None, sign: float = -1.0) -> "LFT":
         """Feedback ``y = P (u + sign * K y)`` (negative feedback by default; ``K = I`` if omitted)."""
         other = self._as_lft(np.eye(self.shape[1], self.shape[0]) if other is None else other)
@@ -421,19 +443,9 @@ class LFT:
         return self._interconnect([self, other], kk, e, f, np.zeros((n_ext_out, n_ext_in)))
 
     # ------------------------------------------------------------- evaluation
-    def _deltas_of(self, values: Mapping[str, float], normalized: bool) -> dict[str, float]:
-        out = {}
-        for name, val in values.items():
-            if name not in self.params:
-                raise ValueError(f"unknown parameter {name!r}; parameters are {sorted(self.params)}")
-            out[name] = float(val) if normalized else self.params[name].to_delta(val)
-            if normalized and not abs(out[name]) <= 1.0 + 1e-12:
-                raise ValueError(f"normalised value of {name!r} must be in [-1, 1], got {val!r}")
-        return out
-
     def substitute(self, values: Mapping[str, float], normalized: bool = False) -> "LFT":
         """Close the Delta channels of the parameters in ``values`` (physical values unless ``normalized``)."""
-        deltas = self._deltas_of(values, normalized)
+        deltas = _delta_values(self.params, values, normalized)
         nd = self.n_delta
         close = [i for i, n in enumerate(self.blocks) if n in deltas]
         keep = [i for i, n in enumerate(self.blocks) if n not in deltas]

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
-from .ports import MultiPortModel, node_port
+from .ports import MultiPortModel, delta_port, node_port
 from .reduction import remove_slow_poles
 
 __all__ = ["ModalParticipation", "participation_factors", "cantilever_from_modes", "align_signs", "effective_mass"]
@@ -102,7 +102,8 @@ def effective_mass(factors: ArrayLike) -> NDArray[np.float64]:
 
 
 def cantilever_from_modes(rigid_mass: ArrayLike, omega: ArrayLike, factors: ArrayLike, damping: float | ArrayLike = 0.001,
-                          node: str = "P", position: ArrayLike = (0.0, 0.0, 0.0), name: str = "modal") -> MultiPortModel:
+                          node: str = "P", position: ArrayLike = (0.0, 0.0, 0.0), name: str = "modal",
+                          omega1=None) -> MultiPortModel:
     """Single clamped-port model of a body from its rigid mass and modal data.
 
     Inputs: acceleration twist at the port; outputs: wrench applied by the body
@@ -119,6 +120,10 @@ def cantilever_from_modes(rigid_mass: ArrayLike, omega: ArrayLike, factors: Arra
         Participation factors at the port.
     damping : float or array_like
         Modal damping ratio(s) in [0, 1).
+    omega1 : lib.lft.Parameter, optional
+        Makes the first frequency uncertain (its centre replaces ``omega[0]``), exactly,
+        with 2 occurrences: ``v = w1 eta1 + 2 xi eta1'`` and ``s = w1 v`` give the
+        restoring term ``w1^2 eta1 + 2 xi w1 eta1'`` of both the state equation and ``W``.
     """
     d_p = np.asarray(rigid_mass, dtype=float)
     w = np.asarray(omega, dtype=float).reshape(-1)
@@ -131,8 +136,27 @@ def cantilever_from_modes(rigid_mass: ArrayLike, omega: ArrayLike, factors: Arra
     if np.any((z < 0) | (z >= 1)):
         raise ValueError(f"damping must be in [0, 1), got {damping!r}")
     n = w.size
+    if omega1 is not None:
+        w = w.copy()
+        w[0] = omega1.center
     a = np.block([[np.zeros((n, n)), np.eye(n)], [-np.diag(w**2), -np.diag(2 * z * w)]])
     b = np.vstack([np.zeros((n, 6)), -lp])
     c = np.hstack([lp.T @ np.diag(w**2), lp.T @ np.diag(2 * z * w)])
     d = -(d_p - lp.T @ lp)
-    return MultiPortModel(a, b, c, d, [node_port(node, position, "clamped")], name)
+    port = node_port(node, position, "clamped")
+    if omega1 is None:
+        return MultiPortModel(a, b, c, d, [port], name)
+    # Delta channels: z1 = eta1, z2 = v = c eta1 + 2 xi eta1' + r w1; s = c v + r w2.
+    cen, r, xi = omega1.center, omega1.half_range, z[0]
+    b = np.hstack([b, np.zeros((2 * n, 2))])
+    b[n, 6:] = [-cen * r, -r]
+    c_z = np.zeros((2, 2 * n))
+    c_z[0, 0] = 1.0
+    c_z[1, 0], c_z[1, n] = cen, 2 * xi
+    c = np.vstack([c, c_z])
+    d_full = np.zeros((8, 8))
+    d_full[:6, :6] = d
+    d_full[:6, 6:] = np.outer(lp[0], [cen * r, r])
+    d_full[7, 6] = r
+    ports = [port, delta_port(omega1.name), delta_port(omega1.name)]
+    return MultiPortModel(a, b, c, d_full, ports, name, {omega1.name: omega1})

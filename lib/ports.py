@@ -27,6 +27,7 @@ with free-form input and output names; inverting them swaps the names only.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
@@ -45,6 +46,7 @@ __all__ = [
     "connect",
     "frequency_response",
     "modal_frequency_response",
+    "delta_port",
 ]
 
 COMPONENTS: tuple[str, ...] = ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")
@@ -67,12 +69,16 @@ class Port:
         ``("s",)`` for a scalar port.
     labels : tuple of str, optional
         Scalar ports only: ``(input_name, output_name)``.
+    parameter : str, optional
+        For an uncertainty channel (a "delta" port): the name of the parameter whose
+        normalised value closes it, ``w = delta z`` (see :mod:`lib.lft`).
     """
 
     name: str
     position: NDArray[np.float64]
     causality: tuple[str, ...]
     labels: tuple[str, str] | None = None
+    parameter: str | None = None
 
     @property
     def size(self) -> int:
@@ -86,7 +92,9 @@ class Port:
 
     @property
     def kind(self) -> str:
-        """``"clamped"`` (all accelerations in), ``"free"`` (all wrenches in), ``"mixed"`` or ``"scalar"``."""
+        """``"clamped"`` (all accelerations in), ``"free"`` (all wrenches in), ``"mixed"``, ``"scalar"`` or ``"delta"``."""
+        if self.parameter is not None:
+            return "delta"
         if self.is_scalar:
             return "scalar"
         if all(c == "a" for c in self.causality):
@@ -117,6 +125,15 @@ def _node_port(name: str, position: ArrayLike, kind: str) -> Port:
 def scalar_port(name: str, input_name: str, output_name: str) -> Port:
     """A scalar (1-channel) port with named input and output."""
     return Port(str(name), np.zeros(3), ("s",), (str(input_name), str(output_name)))
+
+
+_DELTA_IDS = itertools.count(1)
+
+
+def delta_port(parameter: str) -> Port:
+    """A new uncertainty channel of ``parameter`` (unique name ``D<k>:<parameter>``)."""
+    name = f"D{next(_DELTA_IDS)}:{parameter}"
+    return Port(name, np.zeros(3), ("s",), (f"w_{name}", f"z_{name}"), str(parameter))
 
 
 def invert_channels(
@@ -289,9 +306,13 @@ class MultiPortModel:
         The ports; node names must be unique.
     name : str
         A label for the model.
+    params : mapping str -> lib.lft.Parameter, optional
+        The parameters of the model's delta ports (uncertainty channels): the model is
+        then the certain part ``M`` of the LFT ``F_u(M, Delta)``.
     """
 
-    def __init__(self, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, ports: Sequence[Port], name: str = "model"):
+    def __init__(self, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, ports: Sequence[Port], name: str = "model",
+                 params: Mapping | None = None):
         self.a = np.atleast_2d(np.asarray(a, dtype=float))
         self.d = np.atleast_2d(np.asarray(d, dtype=float))
         n_ch = sum(p.size for p in ports)
@@ -306,6 +327,14 @@ class MultiPortModel:
             raise ValueError(f"port names must be unique, got {names}")
         self.ports: tuple[Port, ...] = tuple(ports)
         self.name = name
+        self.params = dict(params or {})
+        missing = sorted({p.parameter for p in self.ports if p.parameter is not None} - set(self.params))
+        if missing:
+            raise ValueError(f"delta ports name parameters {missing} that are not in params")
+
+    def _like(self, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, ports: Sequence[Port], name: str | None = None) -> "MultiPortModel":
+        """A new model with this model's parameters."""
+        return MultiPortModel(a, b, c, d, ports, name or self.name, self.params)
 
     # ------------------------------------------------------------------ access
     @property
@@ -438,6 +467,9 @@ class MultiPortModel:
                 f"channel index {shown} does not exist in {self.name!r}: valid "
                 f"{'1' if one_based else '0'}-based indices are {base}..{self.nchannels - 1 + base}"
             )
+        deltas = [i for p in self.ports if p.parameter is not None for i in self.channels(p.name) if i in idx]
+        if deltas:
+            raise ValueError(f"channels {deltas} are uncertainty (delta) channels: they cannot be inverted")
         a, b, c, d = invert_channels(self.a, self.b, self.c, self.d, idx)
         ports = []
         sign = np.ones(self.nchannels)
@@ -462,7 +494,7 @@ class MultiPortModel:
         b = b * in_sign
         c = out_sign[:, None] * c
         d = out_sign[:, None] * d * in_sign
-        return MultiPortModel(a, b, c, d, ports, name or f"{self.name}^-1")
+        return self._like(a, b, c, d, ports, name or f"{self.name}^-1")
 
     def invert_ports(self, *names: str, name: str | None = None) -> "MultiPortModel":
         """Invert all channels of the named ports (free <-> clamped)."""
@@ -478,7 +510,7 @@ class MultiPortModel:
                 sl = slice(self.offset(p.name), self.offset(p.name) + p.size)
                 tin[sl, sl] = t_in[p.name]
                 tout[sl, sl] = t_out[p.name]
-        return MultiPortModel(self.a, self.b @ tin, tout @ self.c, tout @ self.d @ tin, ports, name)
+        return self._like(self.a, self.b @ tin, tout @ self.c, tout @ self.d @ tin, ports, name)
 
     def reproject(self, rot: ArrayLike, name: str | None = None) -> "MultiPortModel":
         """Express the model in another frame.
@@ -500,7 +532,7 @@ class MultiPortModel:
         """Move the whole model by ``offset`` [m] (positions only; dynamics unchanged)."""
         off = frames.as_vector3(offset, "offset")
         ports = [p if p.is_scalar else replace(p, position=p.position + off) for p in self.ports]
-        return MultiPortModel(self.a, self.b, self.c, self.d, ports, name or self.name)
+        return self._like(self.a, self.b, self.c, self.d, ports, name)
 
     def transport(self, port: str, position: ArrayLike, new_name: str | None = None) -> "MultiPortModel":
         """Move port ``port`` to another point rigidly attached to it, with the kinematic model tau.
@@ -533,23 +565,123 @@ class MultiPortModel:
         for old in mapping:
             self.port(old)
         ports = [replace(p, name=mapping.get(p.name, p.name)) for p in self.ports]
-        return MultiPortModel(self.a, self.b, self.c, self.d, ports, name or self.name)
+        return self._like(self.a, self.b, self.c, self.d, ports, name)
 
     def select(self, keep: Sequence[str], name: str | None = None) -> "MultiPortModel":
         """Keep only the ports in ``keep`` (in that order); the others are closed.
 
         A dropped free channel gets no external wrench (the node is unloaded and
         not observed); a dropped clamped channel gets zero acceleration (the node
-        is held fixed). States are kept as they are.
+        is held fixed). States are kept as they are; delta ports are always kept.
         """
         missing = [n for n in keep if n not in self.port_names]
         if missing:
             raise ValueError(f"ports {missing} do not exist in {self.name!r}; ports are {self.port_names}")
         if len(set(keep)) != len(keep):
             raise ValueError(f"keep must list distinct ports, got {list(keep)}")
+        keep = list(keep) + [p.name for p in self.ports if p.parameter is not None and p.name not in keep]
         idx = [i for n in keep for i in self.channels(n)]
         ports = [self.port(n) for n in keep]
-        return MultiPortModel(self.a, self.b[:, idx], self.c[idx, :], self.d[np.ix_(idx, idx)], ports, name or self.name)
+        return self._like(self.a, self.b[:, idx], self.c[idx, :], self.d[np.ix_(idx, idx)], ports, name)
+
+    # ---------------------------------------------------------- uncertainty
+    @property
+    def delta_ports(self) -> list[Port]:
+        """The uncertainty channels (delta ports), in channel order."""
+        return [p for p in self.ports if p.parameter is not None]
+
+    def occurrences(self) -> dict[str, int]:
+        """Number of delta channels of each parameter."""
+        out: dict[str, int] = {}
+        for p in self.delta_ports:
+            out[p.parameter] = out.get(p.parameter, 0) + 1
+        return out
+
+    def substitute(self, values: Mapping[str, float], normalized: bool = False, name: str | None = None) -> "MultiPortModel":
+        """Close the delta ports of the parameters in ``values`` (physical values unless ``normalized``)."""
+        from .lft import _delta_values  # local import: lft builds on this module
+
+        deltas = _delta_values(self.params, values, normalized)
+        close = [p for p in self.delta_ports if p.parameter in deltas]
+        keep = [p for p in self.ports if p not in close]
+        k = np.zeros((self.nchannels, self.nchannels))
+        for p in close:
+            i = self.offset(p.name)
+            k[i, i] = deltas[p.parameter]
+        ext = [i for p in keep for i in self.channels(p.name)]
+        e = np.zeros((self.nchannels, len(ext)))
+        e[ext, np.arange(len(ext))] = 1.0
+        a, b, c, d = close_static(self.a, self.b, self.c, self.d, k, e, e.T.copy(), np.zeros((len(ext), len(ext))))
+        params = {n: v for n, v in self.params.items() if n not in deltas}
+        return MultiPortModel(a, b, c, d, keep, name or self.name, params)
+
+    def to_lft(self, inputs: Sequence[str] | None = None, outputs: Sequence[str] | None = None):
+        """The model as a :class:`lib.lft.LFT` with the named io signals (default: all non-delta channels)."""
+        from .lft import LFT
+
+        io_ports = [p for p in self.ports if p.parameter is None]
+        in_names = [n for p in io_ports for n in p.input_names()] if inputs is None else list(inputs)
+        out_names = [n for p in io_ports for n in p.output_names()] if outputs is None else list(outputs)
+        all_in, all_out = self.input_names(), self.output_names()
+        for n in in_names:
+            if n not in all_in:
+                raise ValueError(f"unknown input {n!r} of {self.name!r}")
+        for n in out_names:
+            if n not in all_out:
+                raise ValueError(f"unknown output {n!r} of {self.name!r}")
+        dch = [self.offset(p.name) for p in self.delta_ports]
+        ii = dch + [all_in.index(n) for n in in_names]
+        oo = dch + [all_out.index(n) for n in out_names]
+        return LFT(self.a, self.b[:, ii], self.c[oo, :], self.d[np.ix_(oo, ii)], [p.parameter for p in self.delta_ports], self.params)
+
+    @classmethod
+    def from_lft(cls, lft, ports: Sequence[Port], name: str = "model") -> "MultiPortModel":
+        """A multi-port model whose io channels (in port order) are those of ``lft``; its Delta channels become delta ports."""
+        n_io = sum(p.size for p in ports)
+        if lft.shape != (n_io, n_io):
+            raise ValueError(f"the LFT is {lft.shape[0]}x{lft.shape[1]} but the ports have {n_io} channels")
+        nd = lft.n_delta
+        perm_in = list(range(nd, nd + n_io)) + list(range(nd))
+        perm_out = list(range(nd, nd + n_io)) + list(range(nd))
+        dports = [delta_port(name_) for name_ in lft.blocks]
+        return cls(lft.a, lft.b[:, perm_in], lft.c[perm_out, :], lft.d[np.ix_(perm_out, perm_in)], list(ports) + dports, name, lft.params)
+
+    def reproject_lft(self, r6, name: str | None = None) -> "MultiPortModel":
+        """Express the model in another frame through an uncertain twice DCM ``r6`` (a 6x6 static LFT).
+
+        Each 6-dof port maps as in :meth:`reproject` (``y -> R6 y``, ``u -> R6^T u``);
+        the DCM's Delta channels become delta ports. The 6-dof ports must lie at the
+        origin (the rotation's fixed point), e.g. a panel built at its joint before
+        :meth:`translate`.
+        """
+        from .lft import LFT
+
+        six = [p for p in self.ports if p.parameter is None and not p.is_scalar]
+        if any(np.linalg.norm(p.position) > 0 for p in six):
+            raise ValueError("reproject_lft needs the 6-dof ports at the origin: translate the model after rotating it")
+        io = [p for p in self.ports if p.parameter is None]
+        outs = [r6 if not p.is_scalar else LFT.constant([[1.0]]) for p in io]
+        ins = [r6.T if not p.is_scalar else LFT.constant([[1.0]]) for p in io]
+        rotated = LFT.blkdiag(*outs) @ self.to_lft() @ LFT.blkdiag(*ins)
+        return MultiPortModel.from_lft(rotated, io, name or self.name)
+
+    def with_axis_channel(self, port: str, axis: ArrayLike, label: str, input_name: str, output_name: str) -> "MultiPortModel":
+        """Add a scalar channel acting along the 6-vector ``axis`` of a clamped port.
+
+        The new input ``v`` adds ``axis * v`` to the port's imposed acceleration and the
+        new output is ``axis^T W`` (e.g. a revolute joint: relative angular acceleration
+        in, torque transmitted about the joint axis out).
+        """
+        p = self.port(port)
+        if p.kind != "clamped":
+            raise ValueError(f"port {port!r} is {p.kind}: an axis channel needs a clamped port")
+        e = np.asarray(axis, dtype=float).reshape(6)
+        col = np.zeros(self.nchannels)
+        col[self.channels(port)] = e
+        t_in = np.hstack([np.eye(self.nchannels), col[:, None]])
+        t_out = np.vstack([np.eye(self.nchannels), col[None, :]])
+        ports = list(self.ports) + [scalar_port(label, input_name, output_name)]
+        return self._like(self.a, self.b @ t_in, t_out @ self.c, t_out @ self.d @ t_in, ports)
 
     def reorder(self, order: Sequence[str], name: str | None = None) -> "MultiPortModel":
         """Reorder the ports; ``order`` must name every port once."""
@@ -557,7 +689,7 @@ class MultiPortModel:
             raise ValueError(f"order must list each port once: got {list(order)}, ports are {self.port_names}")
         perm = [i for n in order for i in self.channels(n)]
         ports = [self.port(n) for n in order]
-        return MultiPortModel(self.a, self.b[:, perm], self.c[perm, :], self.d[np.ix_(perm, perm)], ports, name or self.name)
+        return self._like(self.a, self.b[:, perm], self.c[perm, :], self.d[np.ix_(perm, perm)], ports, name)
 
 
 def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Sequence[str] | None = None, atol: float = 1e-9) -> MultiPortModel:
@@ -663,7 +795,13 @@ def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Seq
         for ch, val in row:
             f[j, ch] = val
     a2, b2, c2, d2 = close_static(a, b, c, d, k, e, f, np.zeros((n_ext, n_ext)))
-    return MultiPortModel(a2, b2, c2, d2, ports, name)
+    params: dict = {}
+    for m in models:
+        for key, val in m.params.items():
+            if key in params and params[key] != val:
+                raise ValueError(f"parameter {key!r} is defined differently in two models")
+            params[key] = val
+    return MultiPortModel(a2, b2, c2, d2, ports, name, params)
 
 
 def node_port(name: str, position: ArrayLike, kind: str) -> Port:

@@ -156,7 +156,7 @@ def remove_slow_poles(model: MultiPortModel, omega_min: float = 0.01, max_contri
             "spurious loop-closure poles; lower omega_min or keep them"
         )
     a, b, c, d = split.fast
-    return MultiPortModel(a, b, c, d, model.ports, model.name)
+    return MultiPortModel(a, b, c, d, model.ports, model.name, model.params)
 
 
 def static_gain(model: MultiPortModel, omega_min: float = 0.01) -> NDArray[np.float64]:

@@ -29,7 +29,7 @@ from .reduction import static_gain
 from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["load_parameters", "OpenLoop", "open_loop", "INPUTS", "OUTPUTS", "component_masses", "truss_mass"]
+__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "INPUTS", "OUTPUTS", "component_masses", "truss_mass"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
@@ -86,17 +86,22 @@ class OpenLoop:
         The blocks: hub, truss, panels, antenna, PMA block.
     parameters : dict
         The values used (h, theta, hub mass and Iyy, first panel frequency, SADM k, f).
+    lft : lib.lft.LFT or None
+        For ``open_loop(..., uncertain=True)``: the uncertain model ``F_u(G, Delta)``
+        (12 inputs, 20 outputs); ``G`` then holds its certain part, delta channels first.
     """
 
     G: ct.StateSpace
     model: MultiPortModel
     blocks: dict[str, MultiPortModel] = field(repr=False)
     parameters: dict[str, float]
+    lft: object | None = None
 
     def rigid_mass_at_p1(self) -> np.ndarray:
         """Rigid mass matrix of the whole spacecraft at P1 (6x6): the inverse of the DC gain ``W_P1 -> a_P1``."""
-        dc = static_gain(self.model)
-        i = self.model.channels("P1")
+        model = self.model.substitute({k: p.nominal for k, p in self.model.params.items()}) if self.model.params else self.model
+        dc = static_gain(model)
+        i = model.channels("P1")
         return np.linalg.inv(dc[np.ix_(i, i)])
 
     def mass(self) -> float:
@@ -108,8 +113,22 @@ class OpenLoop:
         return float(self.rigid_mass_at_p1()[0, 0])
 
 
+def uncertain_parameters(params: dict | None = None) -> dict[str, "Parameter"]:
+    """The paper's uncertain parameters: hub mass and Iyy (+-20 %), first panel frequency (+-20 %), tau = tan(theta/4)."""
+    from .lft import Parameter
+
+    p = params or load_parameters()
+    hub, sp = p["hub"], p["solar_panel"]
+    return {
+        "M_SC": Parameter.percent("M_SC", hub["mass"], 100 * hub["mass_uncertainty"]),
+        "Iyy_SC": Parameter.percent("Iyy_SC", hub["inertia"][1][1], 100 * hub["iyy_uncertainty"]),
+        "omega1_SP": Parameter.percent("omega1_SP", sp["omega"][0], 100 * sp["omega1_uncertainty"]),
+        "tau": Parameter("tau", 0.0, -1.0, 1.0),
+    }
+
+
 def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None,
-              panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None) -> OpenLoop:
+              panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None, uncertain: bool = False) -> OpenLoop:
     """Build the open-loop spacecraft model ``G(s)``.
 
     Parameters
@@ -125,6 +144,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
         Beam basis enrichment (1: order-20 beams, G of order 1324).
     params : dict, optional
         Parameters (default: ``data/spacecraft/parameters.json``).
+    uncertain : bool
+        If True, the hub mass and Iyy, the first panel frequency and the panel angle
+        (through tau = tan(theta/4)) are the uncertain parameters of
+        :func:`uncertain_parameters` (``hub_mass``, ``hub_iyy``, ``panel_omega1`` and
+        ``theta`` are then ignored): ``G`` is the certain part of ``F_u(G, Delta)``
+        with the delta channels first, and :attr:`OpenLoop.lft` the uncertain model.
 
     Raises
     ------
@@ -143,11 +168,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     omega[0] = _finite(omega[0] if panel_omega1 is None else panel_omega1, "panel_omega1", positive=True)
     ch = p["choices"]
     tr = p["truss"]
+    unc = uncertain_parameters(p) if uncertain else {}
 
     # Hub: the truss base points carry the truss node names.
     points = dict(hub["points"])
     rename = {v: k for k, v in tr["base_points"].items()}
-    hub_model = bodies.rigid_hub(m_hub, inertia, {rename.get(k, k): v for k, v in points.items()})
+    hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {rename.get(k, k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
 
     section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
     origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
@@ -155,11 +181,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
 
     panels = {}
     for label, turn in (("SP1", np.pi / 2), ("SP2", -np.pi / 2)):
-        rot = frames.rot_x(theta) @ frames.rot_z(turn)
+        rot = frames.rot_z(turn) if uncertain else frames.rot_x(theta) @ frames.rot_z(turn)
         axis = frames.rot_z(turn).T @ np.array([1.0, 0.0, 0.0])  # spacecraft x in the panel frame
         node = sp["points"][label]
         panels[label] = bodies.solar_panel(node, points[node], rot, sp["mass"], sp["r_og"], sp["inertia_g"], omega, sp["damping"],
-                                           sp["factors"], axis, ch["sadm_stiffness"], ch["sadm_friction"], label=label)
+                                           sp["factors"], axis, ch["sadm_stiffness"], ch["sadm_friction"], label=label,
+                                           omega1=unc.get("omega1_SP"), tau=unc.get("tau"))
 
     ant = p["antenna"]
     n20 = origin + truss_nodes(tr["cube_side"])[ant["node"]]
@@ -175,14 +202,14 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     pma_model = bodies.pma_block(pma_list)
 
     model = connect([hub_model, truss_model, panels["SP1"], panels["SP2"], antenna, pma_model], name="spacecraft")
-    sys = model.to_statespace()
     in_names = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
     out_names = (["a_N20_Rx", "a_N20_Ry"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
                  + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
-    ii = [sys.input_labels.index(n) for n in in_names]
-    oo = [sys.output_labels.index(n) for n in out_names]
-    g = ct.ss(model.a, model.b[:, ii], model.c[oo, :], model.d[np.ix_(oo, ii)], inputs=INPUTS, outputs=OUTPUTS, name="G")
+    lft = model.to_lft(in_names, out_names)
+    nd = lft.n_delta
+    g = ct.ss(lft.a, lft.b, lft.c, lft.d, inputs=[f"w_{b}_{i}" for i, b in enumerate(lft.blocks)] + INPUTS,
+              outputs=[f"z_{b}_{i}" for i, b in enumerate(lft.blocks)] + OUTPUTS, name="G")
     blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
     values = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
-                  sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"])
-    return OpenLoop(g, model, blocks, values)
+                  sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
+    return OpenLoop(g, model, blocks, values, lft if uncertain else None)

@@ -123,3 +123,50 @@ def test_bad_body_values_raise():
     with pytest.raises(ValueError, match="stiffness"):
         bodies.solar_panel("P6", [1, 0, 0], np.eye(3), sp["mass"], sp["r_og"], sp["inertia_g"], sp["omega"], sp["damping"],
                            sp["factors"], [1, 0, 0], 0.0, 1.0)
+
+
+@pytest.fixture(scope="module")
+def uncertain():
+    return spacecraft.open_loop(0.03, uncertain=True)
+
+
+def test_uncertain_model_occurrences(uncertain):
+    occ = uncertain.lft.occurrences()
+    # the paper's counts for the hub mass, hub Iyy and first panel frequency
+    assert occ["M_SC"] == 3 and occ["Iyy_SC"] == 1 and occ["omega1_SP"] == 4
+    # tau: two-sided twice DCM per panel, 16 each (the minimal order of R6(tau) X R6(tau)^T for a generic X)
+    assert occ["tau"] == 32
+    assert uncertain.lft.shape == (20, 12) and uncertain.G.nstates == 1324
+
+
+def test_uncertain_model_equals_direct_build_at_draws(uncertain):
+    lft = uncertain.lft
+    draws = lft.sample(3, rng=7, corners=True) + lft.sample(2, rng=8)
+    for delta in draws:
+        vals = {k: lft.params[k].from_delta(v) for k, v in delta.items()}
+        a, b, c, d = lft.evaluate(delta, normalized=True)
+        ref = spacecraft.open_loop(0.03, theta=4 * np.arctan(vals["tau"]), hub_mass=vals["M_SC"], hub_iyy=vals["Iyy_SC"],
+                                   panel_omega1=vals["omega1_SP"]).G
+        for x, y in ((a, ref.A), (b, ref.B), (c, ref.C), (d, ref.D)):
+            assert np.max(np.abs(x - y)) <= 1e-12 * np.max(np.abs(y))
+    # the nominal mass is unchanged by the LFT form
+    assert abs(uncertain.mass() / sum(spacecraft.component_masses(0.03).values()) - 1) < 1e-9
+
+
+def test_rotation_lft_is_exact_and_minimal():
+    from lib.lft import LFT, Parameter
+
+    tau = Parameter("tau", 0.0, -1.0, 1.0)
+    r6 = frames.twice_dcm_lft(tau, frames.rot_z(np.pi / 2))
+    assert r6.occurrences() == {"tau": 8}
+    for t in (-1.0, -0.2, 0.6, 1.0):
+        np.testing.assert_allclose(r6.evaluate({"tau": t})[3], frames.twice_dcm(frames.rot_x(4 * np.arctan(t)) @ frames.rot_z(np.pi / 2)), atol=1e-14)
+    # R X R^T for a generic X: the Hankel matrix of its Markov parameters in tau has rank 16 (no smaller exact LFT)
+    x = np.random.default_rng(0).normal(size=(6, 6))
+    f = r6 @ LFT.constant(x) @ r6.T
+    nd = f.n_delta
+    m11, m12, m21 = f.d[:nd, :nd], f.d[:nd, nd:], f.d[nd:, :nd]
+    markov = [m21 @ np.linalg.matrix_power(m11, k) @ m12 for k in range(2 * nd)]
+    hankel = np.block([[markov[i + j] for j in range(nd)] for i in range(nd)])
+    sv = np.linalg.svd(hankel, compute_uv=False)
+    assert nd == 16 and np.sum(sv > 1e-9 * sv[0]) == 16
