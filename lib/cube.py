@@ -81,7 +81,7 @@ def cube_members(side: str = "forward", top: str = "N6-N8") -> list[tuple[str, s
 
 
 def cube_cccc_ffff(section: Section, lx: float = 1.0, ly: float = 1.0, lz: float = 1.0, side: str = "forward",
-                   top: str = "N6-N8", n_modes: int = 1, name: str = "cube") -> MultiPortModel:
+                   top: str = "N6-N8", n_modes: int = 1, name: str = "cube", h_param=None) -> MultiPortModel:
     """Cube ``C^{CCCC-FFFF}``: accelerations imposed at N1..N4, wrenches applied at N5..N8.
 
     Parameters
@@ -94,6 +94,8 @@ def cube_cccc_ffff(section: Section, lx: float = 1.0, ly: float = 1.0, lz: float
         Diagonal layout (see module docstring).
     n_modes : int
         Beam basis enrichment (1: order-20 beams, 260 states in all).
+    h_param : lib.lft.Parameter, optional
+        Square-section side as an LFT parameter (scaled signals, see :func:`lib.titop.clamped_free_lft`).
 
     Returns
     -------
@@ -105,8 +107,8 @@ def cube_cccc_ffff(section: Section, lx: float = 1.0, ly: float = 1.0, lz: float
     blocks = []
     for bottom, top_node, diag in _chains(side):
         blocks.append(l_chain((bottom, nodes[bottom]), (top_node, nodes[top_node]), (diag, nodes[diag]), section, n_modes,
-                              name=f"L_{top_node}"))
-    blocks.append(square_cccc(*[(n, nodes[n]) for n in _square(top)], section, n_modes, name="S_top"))
+                              name=f"L_{top_node}", h_param=h_param))
+    blocks.append(square_cccc(*[(n, nodes[n]) for n in _square(top)], section, n_modes, name="S_top", h_param=h_param))
     return connect(blocks, name=name, order=[f"N{i}" for i in range(1, 9)])
 
 

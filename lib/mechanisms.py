@@ -4,7 +4,9 @@ Paper: section "2D Mechanisms" (L-chain, triangle, square). Mathematics:
 ``docs/titop_math.md`` section e. All ports are projected in one common frame;
 the frame changes are inside the beam blocks (:func:`lib.titop.beam`).
 
-Nodes are given as ``(name, position)`` pairs; positions in metres.
+Nodes are given as ``(name, position)`` pairs; positions in metres. Every builder takes an
+optional ``h_param`` (:class:`lib.lft.Parameter`): the square-section side as an LFT parameter,
+the model then working on scaled signals (see :func:`lib.titop.clamped_free_lft`).
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ __all__ = [
 Node = tuple[str, ArrayLike]
 
 
-def l_chain(a: Node, b: Node, c: Node, section: Section, n_modes: int = 1, name: str = "L") -> MultiPortModel:
+def l_chain(a: Node, b: Node, c: Node, section: Section, n_modes: int = 1, name: str = "L", h_param=None) -> MultiPortModel:
     """Clamped-free-clamped L-chain ``L^CFC``: beams A->B and C->B joined at B.
 
     Block diagram (paper, L-chain figure): beam ``A1 = D_{A,B}`` clamped at A,
@@ -42,12 +44,12 @@ def l_chain(a: Node, b: Node, c: Node, section: Section, n_modes: int = 1, name:
         ``L^CCC = .invert_ports(B)``, ``L^FFC = .invert_ports(A)``, ...
     """
     b_name = b[0]
-    beam1 = beam(a, b, section, n_modes, name=f"{name}:{a[0]}{b_name}")
-    beam2 = beam(c, b, section, n_modes, name=f"{name}:{c[0]}{b_name}").invert_ports(b_name)
+    beam1 = beam(a, b, section, n_modes, name=f"{name}:{a[0]}{b_name}", h_param=h_param)
+    beam2 = beam(c, b, section, n_modes, name=f"{name}:{c[0]}{b_name}", h_param=h_param).invert_ports(b_name)
     return connect([beam1, beam2], name=name, order=[a[0], b_name, c[0]])
 
 
-def triangle(a: Node, b: Node, c: Node, section: Section, n_modes: int = 1, name: str = "T") -> MultiPortModel:
+def triangle(a: Node, b: Node, c: Node, section: Section, n_modes: int = 1, name: str = "T", h_param=None) -> MultiPortModel:
     """Clamped-free-free triangle ``T^CFF`` on nodes A, B, C.
 
     Block diagram (paper, triangle figure): the L-chain ``L^CFC`` on (A, B, C)
@@ -61,12 +63,12 @@ def triangle(a: Node, b: Node, c: Node, section: Section, n_modes: int = 1, name
     MultiPortModel
         Ports (A clamped, B free, C free).
     """
-    chain = l_chain(a, b, c, section, n_modes, name=f"{name}:L")
-    side = beam(a, c, section, n_modes, name=f"{name}:{a[0]}{c[0]}")
+    chain = l_chain(a, b, c, section, n_modes, name=f"{name}:L", h_param=h_param)
+    side = beam(a, c, section, n_modes, name=f"{name}:{a[0]}{c[0]}", h_param=h_param)
     return connect([chain, side], name=name, order=[a[0], b[0], c[0]])
 
 
-def square_cfff(a: Node, b: Node, c: Node, d: Node, section: Section, n_modes: int = 1, name: str = "S") -> MultiPortModel:
+def square_cfff(a: Node, b: Node, c: Node, d: Node, section: Section, n_modes: int = 1, name: str = "S", h_param=None) -> MultiPortModel:
     """Clamped-free-free-free square ``S^CFFF``: sides AB, AC, BD, CD and diagonal BC.
 
     Block diagram (paper, square figure): triangle ``T^CFF`` on (A, B, C) and
@@ -77,14 +79,14 @@ def square_cfff(a: Node, b: Node, c: Node, d: Node, section: Section, n_modes: i
     MultiPortModel
         Ports (A clamped, B, C, D free).
     """
-    tri = triangle(a, b, c, section, n_modes, name=f"{name}:T")
-    chain = l_chain(b, d, c, section, n_modes, name=f"{name}:L")
+    tri = triangle(a, b, c, section, n_modes, name=f"{name}:T", h_param=h_param)
+    chain = l_chain(b, d, c, section, n_modes, name=f"{name}:L", h_param=h_param)
     return connect([tri, chain], name=name, order=[a[0], b[0], c[0], d[0]])
 
 
-def square_cccc(a: Node, b: Node, c: Node, d: Node, section: Section, n_modes: int = 1, name: str = "S") -> MultiPortModel:
+def square_cccc(a: Node, b: Node, c: Node, d: Node, section: Section, n_modes: int = 1, name: str = "S", h_param=None) -> MultiPortModel:
     """Square clamped at its four nodes: ``S^CCCC = [S^CFFF]^{-1_[7:24]}``."""
-    return square_cfff(a, b, c, d, section, n_modes, name).invert_ports(b[0], c[0], d[0], name=name)
+    return square_cfff(a, b, c, d, section, n_modes, name, h_param).invert_ports(b[0], c[0], d[0], name=name)
 
 
 def planar_l_nodes(alpha: float, l_ab: float = 1.0, l_cb: float = 1.0) -> tuple[Node, Node, Node]:

@@ -33,6 +33,7 @@ from dataclasses import dataclass, replace
 
 import control as ct
 import numpy as np
+from scipy import linalg
 from numpy.typing import ArrayLike, NDArray
 
 from . import frames
@@ -136,6 +137,20 @@ def delta_port(parameter: str) -> Port:
     return Port(name, np.zeros(3), ("s",), (f"w_{name}", f"z_{name}"), str(parameter))
 
 
+def _balanced_rcond(m: NDArray) -> float:
+    """Reciprocal condition number after a diagonal balancing similarity.
+
+    Singularity is invariant under ``S^-1 M S``; balancing removes the false alarms of
+    matrices that mix physical units (masses next to compliances, a unit-triangular
+    series connection with large gains) without hiding a true singularity.
+    """
+    if m.size == 0:
+        return 1.0
+    mb, _ = linalg.matrix_balance(m, permute=False)
+    with np.errstate(divide="ignore"):
+        return float(1.0 / np.linalg.cond(mb))
+
+
 def invert_channels(
     a: NDArray, b: NDArray, c: NDArray, d: NDArray, idx: Sequence[int], rcond: float = 1e-12
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -176,8 +191,7 @@ def invert_channels(
         raise ValueError(f"channel indices must be in [0, {n_ch - 1}], got {list(idx)}")
     jj = np.setdiff1d(np.arange(n_ch), ii)
     d_ii = d[np.ix_(ii, ii)]
-    scale = max(np.abs(d_ii).max(), np.finfo(float).tiny)
-    rc = 1.0 / np.linalg.cond(d_ii / scale) if np.all(np.isfinite(d_ii)) else 0.0
+    rc = _balanced_rcond(d_ii) if np.all(np.isfinite(d_ii)) else 0.0
     if not rc > rcond:
         raise ValueError(
             f"channels {list(ii)} cannot be inverted: their direct feedthrough D_II is singular "
@@ -232,14 +246,18 @@ def close_static(
         If ``I - D K`` is singular (an ill-posed interconnection).
     """
     m = np.eye(d.shape[0]) - d @ k
-    rc = 1.0 / np.linalg.cond(m)
+    rc = _balanced_rcond(m)
     if not rc > rcond:
         raise ValueError(
             f"ill-posed interconnection: I - D K is singular (reciprocal condition {rc:.1e}); "
             "two blocks impose the same variable at a node, e.g. two free ports joined "
             "without inverting one of them"
         )
-    sol = np.linalg.solve(m, np.hstack([c, d @ e]))
+    # Solve on the balanced matrix (S^-1 M S): same solution, better accuracy when the
+    # channels mix units (masses, compliances, scaled LFT channels).
+    _, (scale, _) = linalg.matrix_balance(m, permute=False, separate=True)
+    rhs = np.hstack([c, d @ e])
+    sol = scale[:, None] * np.linalg.solve((m / scale[:, None]) * scale[None, :], rhs / scale[:, None])
     y_x, y_w = sol[:, : c.shape[1]], sol[:, c.shape[1] :]
     return a + b @ k @ y_x, b @ (e + k @ y_w), f @ y_x, f @ y_w + h
 
@@ -665,6 +683,32 @@ class MultiPortModel:
         rotated = LFT.blkdiag(*outs) @ self.to_lft() @ LFT.blkdiag(*ins)
         return MultiPortModel.from_lft(rotated, io, name or self.name)
 
+    def unscale_signals_lft(self, h_param, ports: Sequence[str], name: str | None = None) -> "MultiPortModel":
+        """Convert the named 6-dof ports from scaled signals (``a r``, ``W / r``, ``r = h / h_param.center``) to physical ones.
+
+        A clamped port takes the physical acceleration (the model gets ``r a``) and returns
+        ``W = r W_scaled``; a free port takes the physical wrench (the model gets ``W / r``)
+        and returns ``a = a_scaled / r``: 12 occurrences of h per port.
+        """
+        from .lft import LFT
+
+        ratio = LFT.param(h_param) * (1.0 / h_param.center)
+        inv_ratio = ratio.inv()
+        io = [p for p in self.ports if p.parameter is None]
+        outs, ins = [], []
+        for p in io:
+            if p.name in ports:
+                if p.kind not in ("clamped", "free"):
+                    raise ValueError(f"port {p.name!r} is {p.kind}: only clamped or free ports can be converted")
+                g = ratio if p.kind == "clamped" else inv_ratio
+                outs += [g] * 6
+                ins += [g] * 6
+            else:
+                outs += [LFT.constant([[1.0]])] * p.size
+                ins += [LFT.constant([[1.0]])] * p.size
+        out = LFT.blkdiag(*outs) @ self.to_lft() @ LFT.blkdiag(*ins)
+        return MultiPortModel.from_lft(out, io, name or self.name)
+
     def with_axis_channel(self, port: str, axis: ArrayLike, label: str, input_name: str, output_name: str) -> "MultiPortModel":
         """Add a scalar channel acting along the 6-vector ``axis`` of a clamped port.
 
@@ -709,7 +753,8 @@ def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Seq
     name : str
         Name of the assembly.
     order : sequence of str, optional
-        Order of the assembly's ports (default: order of first appearance).
+        Order of the assembly's ports (default: order of first appearance); delta
+        ports not listed follow the listed ones.
     atol : float
         Tolerance on the agreement of node positions [m].
 
@@ -738,6 +783,8 @@ def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Seq
         for p in m.ports:
             nodes.setdefault(p.name, []).append((i, p))
     names = list(order) if order is not None else list(nodes)
+    if order is not None:  # delta ports (uncertainty channels) follow the listed ports
+        names += [n for n, occ in nodes.items() if occ[0][1].parameter is not None and n not in names]
     if sorted(names) != sorted(nodes):
         raise ValueError(f"order must list each node once: got {list(names)}, nodes are {list(nodes)}")
 

@@ -29,7 +29,7 @@ from .reduction import static_gain
 from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "INPUTS", "OUTPUTS", "component_masses", "truss_mass"]
+__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
@@ -127,8 +127,18 @@ def uncertain_parameters(params: dict | None = None) -> dict[str, "Parameter"]:
     }
 
 
+def tunable_h(params: dict | None = None) -> "Parameter":
+    """The tunable section side h [m] over the design range (nominal: the upper bound, the paper's baseline)."""
+    from .lft import Parameter
+
+    tr = (params or load_parameters())["truss"]
+    low, high = tr["h_range"]
+    return Parameter("h", tr["h_nominal"], low, high, tunable=True)
+
+
 def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None,
-              panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None, uncertain: bool = False) -> OpenLoop:
+              panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None, uncertain: bool = False,
+              tunable: bool = False) -> OpenLoop:
     """Build the open-loop spacecraft model ``G(s)``.
 
     Parameters
@@ -150,6 +160,10 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
         :func:`uncertain_parameters` (``hub_mass``, ``hub_iyy``, ``panel_omega1`` and
         ``theta`` are then ignored): ``G`` is the certain part of ``F_u(G, Delta)``
         with the delta channels first, and :attr:`OpenLoop.lft` the uncertain model.
+    tunable : bool
+        If True, the section side h is an LFT parameter too (:func:`tunable_h`, ``h`` is
+        then ignored): the beams work on scaled signals converted at the truss ports
+        (:func:`lib.titop.clamped_free_lft`). Implies nothing about ``uncertain``.
 
     Raises
     ------
@@ -177,7 +191,7 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
 
     section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
     origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
-    truss_model = t_truss(section, tr["cube_side"], n_modes).translate(origin)
+    truss_model = t_truss(section, tr["cube_side"], n_modes, h_param=tunable_h(p) if tunable else None).translate(origin)
 
     panels = {}
     for label, turn in (("SP1", np.pi / 2), ("SP2", -np.pi / 2)):
@@ -212,4 +226,4 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
     values = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
                   sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
-    return OpenLoop(g, model, blocks, values, lft if uncertain else None)
+    return OpenLoop(g, model, blocks, values, lft if (uncertain or tunable) else None)

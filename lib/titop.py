@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize
 
 from . import frames
-from .ports import MultiPortModel, node_port
+from .ports import MultiPortModel, delta_port, node_port
 
 __all__ = [
     "Section",
@@ -39,6 +39,7 @@ __all__ = [
     "rigid_mass",
     "modal_data",
     "clamped_free",
+    "clamped_free_lft",
     "beam",
     "analytic_frequencies",
 ]
@@ -230,20 +231,32 @@ def _field_basis(kind: str, n_modes: int, xi: NDArray) -> tuple[NDArray, NDArray
     return np.array(vals), np.array(d1), np.array(d2)
 
 
+@lru_cache(maxsize=32)
+def _field_eigen(kind: str, n_modes: int):
+    """Dimensionless Ritz eigenproblem ``K^ q = lambda^ M^ q`` of one field (cached)."""
+    xi, w = _gauss(48 + 12 * n_modes)
+    val, d1, d2 = _field_basis(kind, n_modes, xi)
+    strain = d1 if kind == "bar" else d2
+    m = (val * w) @ val.T
+    k = (strain * w) @ strain.T
+    lam, q = linalg.eigh(k, m)
+    v1, dv1, _ = _field_basis(kind, n_modes, np.array([1.0]))
+    for arr in (lam, q, val, xi, w, v1, dv1):
+        arr.setflags(write=False)
+    return lam, q, val, xi, w, v1, dv1
+
+
 def _field_modes(kind: str, n_modes: int, mass: float, stiffness: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray]:
     """Ritz modes of one field: omega, int(phi), int(xi phi), phi(1), dphi/dxi(1).
 
     ``mass`` multiplies int(psi_i psi_j) dxi and ``stiffness`` int of the product
     of the derivatives that carry the strain energy (first for bars, second for bending).
     """
-    xi, w = _gauss(48 + 12 * n_modes)
-    val, d1, d2 = _field_basis(kind, n_modes, xi)
-    strain = d1 if kind == "bar" else d2
-    m = mass * (val * w) @ val.T
-    k = stiffness * (strain * w) @ strain.T
-    lam, q = linalg.eigh(k, m)
-    one = np.array([1.0])
-    v1, dv1, _ = _field_basis(kind, n_modes, one)
+    lam_hat, q_hat, val, xi, w, v1, dv1 = _field_eigen(kind, n_modes)
+    # Dimensionless eigenproblem solved once; the physical scaling is applied exactly, so that
+    # models at different sizes differ by no eigen-solver rounding (the h-LFT relies on it).
+    lam = lam_hat * (stiffness / mass)
+    q = q_hat / np.sqrt(mass)
     return (
         np.sqrt(lam),
         q.T @ (val @ w),
@@ -347,7 +360,7 @@ def clamped_free(length: float, section: Section, n_modes: int = 1, p: str = "P"
 
 
 def beam(p: tuple[str, ArrayLike], c: tuple[str, ArrayLike], section: Section, n_modes: int = 1,
-         y_hint: ArrayLike | None = None, name: str | None = None) -> MultiPortModel:
+         y_hint: ArrayLike | None = None, name: str | None = None, h_param=None) -> MultiPortModel:
     """TITOP beam between two nodes, expressed in the common frame.
 
     Parameters
@@ -362,13 +375,81 @@ def beam(p: tuple[str, ArrayLike], c: tuple[str, ArrayLike], section: Section, n
         Direction of the beam's y axis (see :func:`lib.frames.beam_frame`).
     name : str, optional
         Model name (default ``"P-C"``).
+    h_param : lib.lft.Parameter, optional
+        Square-section side as an LFT parameter (scaled signals, see :func:`clamped_free_lft`).
     """
     (pn, rp), (cn, rc) = p, c
     rp = frames.as_vector3(rp, f"position of {pn}")
     rc = frames.as_vector3(rc, f"position of {cn}")
     rot = frames.beam_frame(rp, rc, y_hint)
-    local = clamped_free(float(np.linalg.norm(rc - rp)), section, n_modes, pn, cn, name or f"{pn}-{cn}")
+    length = float(np.linalg.norm(rc - rp))
+    if h_param is None:
+        local = clamped_free(length, section, n_modes, pn, cn, name or f"{pn}-{cn}")
+    else:
+        local = clamped_free_lft(length, section, h_param, n_modes, pn, cn, name or f"{pn}-{cn}")
     return local.reproject(rot).translate(rp)
+
+
+def clamped_free_lft(length: float, section: Section, h_param, n_modes: int = 1, p: str = "P", c: str = "C",
+                     name: str = "beam") -> MultiPortModel:
+    """TITOP beam with a square section whose side h is an LFT parameter, in *scaled signals*.
+
+    For a full square section of side h (S = h^2, Iy = Iz = h^4/12, J and Ip ~ h^4) with
+    E, rho fixed, the Ritz modal data at h follow exactly from those at ``h0 =
+    h_param.center`` with ``r = h / h0``: bending frequencies scale as r, axial and torsion
+    frequencies do not, ``L_P = L_P0 H``, ``Phi_C = H^-1 Phi_C0``, ``D_P = H D_P0 H`` with
+    ``H = r diag(1, 1, 1, r, 1, 1)``. Hence ``G(s; h) = diag(H^-1, H) G0(s; Omega(r)) diag(H^-1, H)``.
+    The scalar factor r commutes with every rotation and interconnection, so it is taken
+    out of the whole truss: this model works on **scaled signals** ``a * r`` (accelerations)
+    and ``W / r`` (wrenches); convert at the truss boundary (:meth:`lib.ports.MultiPortModel.scale_ports_lft`).
+    Occurrences of h: 2 per bending mode (``w v`` with ``v = w eta + 2 xi eta'``) and 4 for
+    the torsion channels (the remaining factor r on Rx): 16 for the order-20 beam.
+
+    Parameters
+    ----------
+    length : float
+        Beam length [m].
+    section : Section
+        Material (E, nu, rho, xi) and torsion choice (J = Iy + Iz or the exact square value)
+        of a square section; its size is ignored (h comes from ``h_param``).
+    h_param : lib.lft.Parameter
+        The section side h [m].
+    """
+    from .lft import LFT
+
+    polar = np.isclose(section.torsion_constant, section.iy + section.iz)
+    sec0 = Section.square(h_param.center, section.young, section.poisson, section.density, section.damping,
+                          "polar" if polar else "exact")
+    md = modal_data(length, sec0, n_modes)
+    a, b, cmat, d = titop_matrices(md)
+    n = md.omega.size
+    bending = np.abs(md.l_p[:, [1, 2, 4, 5]]).max(axis=1) + np.abs(md.phi_c[[1, 2, 4, 5], :]).max(axis=0) > 0
+    rho = h_param.half_range / h_param.center
+    k_b = np.where(bending)[0]
+    nd = 2 * k_b.size
+    b = np.hstack([b, np.zeros((2 * n, nd))])
+    cmat = np.vstack([cmat, np.zeros((nd, 2 * n))])
+    d = np.block([[d, np.zeros((12, nd))], [np.zeros((nd, 12 + nd))]])
+    for j, k in enumerate(k_b):
+        cen, r, xi = md.omega[k], md.omega[k] * rho, md.damping[k]
+        w1, w2 = 12 + 2 * j, 12 + 2 * j + 1
+        b[n + k, [w1, w2]] = [-cen * r, -r]
+        cmat[w1, k] = 1.0
+        cmat[w2, k], cmat[w2, n + k] = cen, 2 * xi
+        d[w2, w1] = r
+        restoring_out = np.r_[-md.phi_c[:, k], md.l_p[k]]  # a_C -= Phi_k s_k, W_P += L_k^T s_k
+        d[:12, w1] = restoring_out * cen * r
+        d[:12, w2] = restoring_out * r
+    dports = [delta_port(h_param.name) for _ in range(nd)]
+    ports = [node_port(c, md.r_pc, "free"), node_port(p, np.zeros(3), "clamped")]
+    g0 = MultiPortModel(a, b, cmat, d, ports + dports, name, {h_param.name: h_param})
+    ratio = LFT.param(h_param) * (1.0 / h_param.center)
+    inv_ratio = ratio.inv()
+    one = LFT.constant([[1.0]])
+    # diag(E^-1, E) on outputs [a_C; W_P] and inputs [W_C; a_P]: Rx of C scaled by 1/r, Rx of P by r
+    scale = [one] * 3 + [inv_ratio] + [one] * 5 + [ratio] + [one] * 2
+    scaled = LFT.blkdiag(*scale) @ g0.to_lft() @ LFT.blkdiag(*scale)
+    return MultiPortModel.from_lft(scaled, ports, name)
 
 
 # ----------------------------------------------------------------- closed form

@@ -87,23 +87,30 @@ def truss_members(a: float = 1.0) -> list[tuple[str, str]]:
     return out
 
 
-def t_truss_all_ports(section: Section, a: float = 1.0, n_modes: int = 1) -> MultiPortModel:
+def t_truss_all_ports(section: Section, a: float = 1.0, n_modes: int = 1, h_param=None) -> MultiPortModel:
     """T-truss with all 24 nodes as ports (N1..N4 clamped, the others free), truss frame."""
     nodes = truss_nodes(a)
     blocks = []
     for cube in CUBES:
         rot, org, mapping = _cube_placement(cube, a, nodes)
-        block = cube_cccc_ffff(section, a, a, a, n_modes=n_modes, name=cube)
+        block = cube_cccc_ffff(section, a, a, a, n_modes=n_modes, name=cube, h_param=h_param)
         if cube in ("C4", "C5"):
             block = block.reproject(rot)
         blocks.append(block.translate(org).rename(mapping))
     return connect(blocks, name="T_str (all nodes)", order=list(nodes))
 
 
-def t_truss(section: Section, a: float = 1.0, n_modes: int = 1, ports: tuple[str, ...] = ("N1", "N2", "N3", "N4", "N17", "N20")) -> MultiPortModel:
+def t_truss(section: Section, a: float = 1.0, n_modes: int = 1, ports: tuple[str, ...] = ("N1", "N2", "N3", "N4", "N17", "N20"),
+            h_param=None) -> MultiPortModel:
     """The paper's 6-port T-truss ``T_str`` (36x36, order 1300 with order-20 beams).
 
     Ports N1..N4 (accelerations imposed by the hub) and N17, N20 (wrenches of the
-    PMAs and the antenna); the other nodes are unloaded.
+    PMAs and the antenna); the other nodes are unloaded. With ``h_param`` (an LFT
+    parameter for the section side) the beams work on scaled signals, converted back
+    to physical ones at the truss ports (``a = a_scaled / r``, ``W = r W_scaled``,
+    ``r = h / h_param.center``).
     """
-    return t_truss_all_ports(section, a, n_modes).select(list(ports), name="T_str")
+    model = t_truss_all_ports(section, a, n_modes, h_param).select(list(ports), name="T_str")
+    if h_param is None:
+        return model
+    return model.unscale_signals_lft(h_param, list(ports))
