@@ -1,4 +1,5 @@
-"""Benchmark: time to build the open-loop spacecraft model G at one h (order 1324).
+"""Benchmark: time to build the open-loop spacecraft model G at one h (order 1324), to reduce it
+(G_r_low, G_r) and to build its uncertain/tunable LFT form.
 
 Prints the timings and saves them to benchmarks/results/build_open_loop.json.
 Run: python benchmarks/build_open_loop.py [--repeat N]
@@ -38,11 +39,18 @@ def main() -> None:
     rows["T-truss (order 1300)"] = (med, best)
     ol, med, best = timed(lambda: spacecraft.open_loop(0.02139), args.repeat)
     rows["open-loop G (order 1324)"] = (med, best)
-    _, med, best = timed(lambda: reduction.split_slow(ol.G.A, ol.G.B, ol.G.C, ol.G.D), max(1, args.repeat // 2))
-    rows["removal of the 540 slow poles"] = (med, best)
-    print(f"{'step':34s} {'median [s]':>11s} {'best [s]':>9s}")
+    g = ol.G
+    _, med, best = timed(lambda: reduction.modal_reduction(g.A, g.B, g.C, g.D), max(1, args.repeat // 2))
+    rows["G_r_low: removal of the 540 slow poles"] = (med, best)
+    _, med, best = timed(lambda: reduction.modal_reduction(g.A, g.B, g.C, g.D, omega_max=500.0), max(1, args.repeat // 2))
+    rows["G_r: slow poles + modes above 500 rad/s"] = (med, best)
+    unc, med, best = timed(lambda: spacecraft.open_loop(uncertain=True, tunable=True), max(1, args.repeat // 2))
+    rows["uncertain + tunable G(h, Delta) (LFT)"] = (med, best)
+    _, med, best = timed(lambda: unc.lft.substitute({"h": 0.02139}), max(1, args.repeat // 2))
+    rows["substitute h in the LFT"] = (med, best)
+    print(f"{'step':42s} {'median [s]':>11s} {'best [s]':>9s}")
     for name, (med, best) in rows.items():
-        print(f"{name:34s} {med:11.3f} {best:9.3f}")
+        print(f"{name:42s} {med:11.3f} {best:9.3f}")
     out = Path(__file__).resolve().parent / "results"
     out.mkdir(exist_ok=True)
     payload = {"machine": {"python": platform.python_version(), "processor": platform.processor(), "machine": platform.machine()},

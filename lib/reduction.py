@@ -38,12 +38,15 @@ class SlowSplit:
         Largest relative size, over frequencies ``omega_min`` to ``1e4 omega_min``,
         of the removed part's frequency response: ``||G_slow|| / ||G||`` (2-norms).
         Close to machine precision when the slow modes are spurious.
+    slow : tuple of ndarray or None
+        ``(A_s, B_s, C_s)`` of the removed part: ``G = G_fast + C_s (sI - A_s)^-1 B_s`` exactly.
     """
 
     fast: tuple[NDArray, NDArray, NDArray, NDArray]
     n_slow: int
     slow_poles: NDArray[np.complex128]
     contribution: float
+    slow: tuple[NDArray, NDArray, NDArray] | None = None
 
 
 def _block_split(a: NDArray, b: NDArray, c: NDArray, select) -> tuple[int, tuple[NDArray, NDArray, NDArray], tuple[NDArray, NDArray, NDArray]]:
@@ -88,7 +91,7 @@ def split_slow(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: float 
     g_slow = frequency_response(ts, b_s, c_s, np.zeros_like(d), omega)
     g_all = frequency_response(tf, b_f, c_f, d, omega) + g_slow
     contrib = max(np.linalg.norm(g_slow[:, :, i], 2) / max(np.linalg.norm(g_all[:, :, i], 2), 1e-300) for i in range(omega.size))
-    return SlowSplit((tf, b_f, c_f, d.copy()), k, linalg.eigvals(ts), float(contrib))
+    return SlowSplit((tf, b_f, c_f, d.copy()), k, linalg.eigvals(ts), float(contrib), (ts, b_s, c_s))
 
 
 @dataclass(frozen=True)
