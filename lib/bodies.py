@@ -46,6 +46,21 @@ def _mass_inertia(mass: float, inertia: ArrayLike) -> NDArray[np.float64]:
     return j
 
 
+def _nonnegative(value: float, name: str, unit: str, strict: bool) -> float:
+    """Check a finite positive (``strict``) or non-negative scalar."""
+    if not (np.isfinite(value) and (value > 0 if strict else value >= 0)):
+        raise ValueError(f"{name} must be a finite {'positive' if strict else 'non-negative'} number [{unit}], got {value!r}")
+    return float(value)
+
+
+def _unit(vector: ArrayLike, name: str) -> NDArray[np.float64]:
+    """Check a unit 3-vector."""
+    v = frames.as_vector3(vector, name)
+    if not np.isclose(np.linalg.norm(v), 1.0):
+        raise ValueError(f"{name} must be a unit vector, got {vector!r}")
+    return v
+
+
 def rigid_mass_matrix(mass: float, inertia_g: ArrayLike, r_pg: ArrayLike = (0.0, 0.0, 0.0)) -> NDArray[np.float64]:
     """Rigid mass matrix at P (6x6) of a body of ``mass`` [kg] and inertia ``inertia_g`` [kg m^2] at its CoG G.
 
@@ -144,14 +159,10 @@ def pma(node: str, position: ArrayLike, rotation: ArrayLike, casing_mass: float,
         Ports: the node (clamped: acceleration in, wrench out) and a scalar port
         ``label`` (force ``u_<label>`` [N] in, stroke ``x_<label>`` [m] out).
     """
-    for val, nm, unit in ((proof_mass, "proof_mass", "kg"), (stiffness, "stiffness", "N/m")):
-        if not (np.isfinite(val) and val > 0):
-            raise ValueError(f"{nm} must be a finite positive number [{unit}], got {val!r}")
-    if not (np.isfinite(damping) and damping >= 0):
-        raise ValueError(f"damping must be a finite non-negative number [N s/m], got {damping!r}")
-    v = frames.as_vector3(axis, "axis")
-    if not np.isclose(np.linalg.norm(v), 1.0):
-        raise ValueError(f"axis must be a unit vector, got {axis!r}")
+    _nonnegative(proof_mass, "proof_mass", "kg", strict=True)
+    _nonnegative(stiffness, "stiffness", "N/m", strict=True)
+    _nonnegative(damping, "damping", "N s/m", strict=False)
+    v = _unit(axis, "axis")
     m_b = linalg.block_diag((casing_mass + proof_mass) * np.eye(3), _mass_inertia(casing_mass, casing_inertia))
     t = frames.tau(frames.as_vector3(r_op, "r_op") - frames.as_vector3(r_og, "r_og"))  # tau_GP: a_G = tau_GP a_P
     w = np.r_[v, 0.0, 0.0, 0.0]
@@ -215,13 +226,9 @@ def solar_panel(node: str, position: ArrayLike, rotation: ArrayLike, mass: float
         (SADM disturbance torque [N m]) and output ``theta_<label>`` (joint angle
         deflection [rad]), then the delta ports of omega1 and tau if any. 2 n + 2 states.
     """
-    if not (np.isfinite(stiffness) and stiffness > 0):
-        raise ValueError(f"stiffness must be a finite positive number [N m/rad] (k = 0 leaves a free joint), got {stiffness!r}")
-    if not (np.isfinite(friction) and friction >= 0):
-        raise ValueError(f"friction must be a finite non-negative number [N m s/rad], got {friction!r}")
-    e3 = frames.as_vector3(joint_axis, "joint_axis")
-    if not np.isclose(np.linalg.norm(e3), 1.0):
-        raise ValueError(f"joint_axis must be a unit vector, got {joint_axis!r}")
+    _nonnegative(stiffness, "stiffness (k = 0 leaves a free joint)", "N m/rad", strict=True)
+    _nonnegative(friction, "friction", "N m s/rad", strict=False)
+    e3 = _unit(joint_axis, "joint_axis")
     d_o = rigid_mass_matrix(mass, inertia_g, r_og)
     flex = cantilever_from_modes(d_o, omega, factors, damping, node=node, name=label, omega1=omega1)
     # 1. Augment with the joint: theta'' adds e theta'' to the root acceleration; e^T W is the

@@ -473,11 +473,15 @@ class LFT:
         return out.a, out.b, out.c, out.d
 
     def sample(self, n: int, rng: np.random.Generator | int | None = None, corners: bool = False) -> list[dict[str, float]]:
-        """``n`` random normalised parameter draws (uniform in [-1, 1]; ``corners`` draws vertices)."""
+        """``n`` random normalised parameter draws (uniform in [-1, 1]; ``corners``: distinct vertices of the box)."""
         rng = np.random.default_rng(rng)
         names = sorted(self.params)
-        draws = rng.uniform(-1, 1, (n, len(names))) if not corners else rng.choice([-1.0, 1.0], (n, len(names)))
-        return [dict(zip(names, row)) for row in draws]
+        if not corners:
+            return [dict(zip(names, row)) for row in rng.uniform(-1, 1, (n, len(names)))]
+        # distinct vertices of the box (all of them if n >= 2^k)
+        k = len(names)
+        picks = rng.choice(2**k, size=min(n, 2**k), replace=False)
+        return [{nm: (1.0 if (v >> i) & 1 else -1.0) for i, nm in enumerate(names)} for v in picks]
 
     def freqresp(self, omega: ArrayLike, values: Mapping[str, float] | None = None, normalized: bool = False) -> NDArray:
         """Frequency response ``(n_out, n_in, n_w)`` at the given parameter values (nominal otherwise)."""
