@@ -1,10 +1,13 @@
 """trusscodesign: sub-structured (TITOP/NINOP) modelling and robust co-design of flexible space trusses.
 
-Modules: ``frames`` (DCMs, kinematic model tau), ``ports`` (multi-port models,
-channel inversion, interconnection), ``titop`` (analytical Euler-Bernoulli beam),
-``mechanisms`` (L-chain, triangle, square), ``frame_fe`` (reference 3D frame
-finite elements), ``reduction`` (removal of spurious slow poles), ``paths``,
-``plotting``, ``results``.
+Modules: ``frames`` (DCMs, kinematic model tau, rotation LFTs), ``ports`` (multi-port models,
+channel inversion, interconnection, delta ports), ``titop`` (analytical Euler-Bernoulli beam,
+h-parametrised LFT beam), ``mechanisms`` (L-chain, triangle, square), ``cube``, ``truss``
+(T-truss), ``bodies`` (hub, antenna, PMA, solar panel on SADM), ``spacecraft`` (open-loop G),
+``lft`` (uncertain/tunable parameters and LFT algebra), ``reduction`` (spurious slow poles,
+modal reduction), ``modal`` (participation factors, models from modal data), ``assembly``
+(direct constrained assembly), ``frame_fe`` and ``opensees_fe`` (finite-element references),
+``paths``, ``plotting``, ``results``.
 """
 
 __version__ = "0.1.0"

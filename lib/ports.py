@@ -256,8 +256,12 @@ def close_static(
     # Solve on the balanced matrix (S^-1 M S): same solution, better accuracy when the
     # channels mix units (masses, compliances, scaled LFT channels).
     _, (scale, _) = linalg.matrix_balance(m, permute=False, separate=True)
-    rhs = np.hstack([c, d @ e])
-    sol = scale[:, None] * np.linalg.solve((m / scale[:, None]) * scale[None, :], rhs / scale[:, None])
+    mb = (m / scale[:, None]) * scale[None, :]
+    rhs = np.hstack([c, d @ e]) / scale[:, None]
+    lu = linalg.lu_factor(mb)
+    sol = linalg.lu_solve(lu, rhs)
+    sol += linalg.lu_solve(lu, rhs - mb @ sol)  # one step of iterative refinement
+    sol = scale[:, None] * sol
     y_x, y_w = sol[:, : c.shape[1]], sol[:, c.shape[1] :]
     return a + b @ k @ y_x, b @ (e + k @ y_w), f @ y_x, f @ y_w + h
 
