@@ -48,6 +48,8 @@ __all__ = [
     "frequency_response",
     "modal_frequency_response",
     "delta_port",
+    "node_port",
+    "scalar_port",
 ]
 
 COMPONENTS: tuple[str, ...] = ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")
@@ -117,7 +119,8 @@ class Port:
         return [f"{'W' if c == 'a' else 'a'}_{self.name}_{k}" for c, k in zip(self.causality, COMPONENTS)]
 
 
-def _node_port(name: str, position: ArrayLike, kind: str) -> Port:
+def node_port(name: str, position: ArrayLike, kind: str) -> Port:
+    """A 6-dof port at node ``name`` and ``position`` [m], ``kind`` ``"clamped"`` or ``"free"``."""
     if kind not in ("clamped", "free"):
         raise ValueError(f"port kind must be 'clamped' or 'free', got {kind!r}")
     return Port(str(name), frames.as_vector3(position, f"position of {name}"), ("a" if kind == "clamped" else "w",) * 6)
@@ -854,10 +857,3 @@ def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Seq
             params[key] = val
     return MultiPortModel(a2, b2, c2, d2, ports, name, params)
 
-
-def node_port(name: str, position: ArrayLike, kind: str) -> Port:
-    """A 6-dof port at node ``name`` and ``position`` [m], ``kind`` ``"clamped"`` or ``"free"``."""
-    return _node_port(name, position, kind)
-
-
-__all__ += ["node_port", "scalar_port"]
