@@ -624,21 +624,8 @@ class MultiPortModel:
 
     def substitute(self, values: Mapping[str, float], normalized: bool = False, name: str | None = None) -> "MultiPortModel":
         """Close the delta ports of the parameters in ``values`` (physical values unless ``normalized``)."""
-        from .lft import _delta_values  # local import: lft builds on this module
-
-        deltas = _delta_values(self.params, values, normalized)
-        close = [p for p in self.delta_ports if p.parameter in deltas]
-        keep = [p for p in self.ports if p not in close]
-        k = np.zeros((self.nchannels, self.nchannels))
-        for p in close:
-            i = self.offset(p.name)
-            k[i, i] = deltas[p.parameter]
-        ext = [i for p in keep for i in self.channels(p.name)]
-        e = np.zeros((self.nchannels, len(ext)))
-        e[ext, np.arange(len(ext))] = 1.0
-        a, b, c, d = close_static(self.a, self.b, self.c, self.d, k, e, e.T.copy(), np.zeros((len(ext), len(ext))))
-        params = {n: v for n, v in self.params.items() if n not in deltas}
-        return MultiPortModel(a, b, c, d, keep, name or self.name, params)
+        io = [p for p in self.ports if p.parameter is None]
+        return MultiPortModel.from_lft(self.to_lft().substitute(values, normalized), io, name or self.name)
 
     def to_lft(self, inputs: Sequence[str] | None = None, outputs: Sequence[str] | None = None):
         """The model as a :class:`lib.lft.LFT` with the named io signals (default: all non-delta channels)."""
@@ -684,11 +671,9 @@ class MultiPortModel:
         six = [p for p in self.ports if p.parameter is None and not p.is_scalar]
         if any(np.linalg.norm(p.position) > 0 for p in six):
             raise ValueError("reproject_lft needs the 6-dof ports at the origin: translate the model after rotating it")
+        one = LFT.constant([[1.0]])
         io = [p for p in self.ports if p.parameter is None]
-        outs = [r6 if not p.is_scalar else LFT.constant([[1.0]]) for p in io]
-        ins = [r6.T if not p.is_scalar else LFT.constant([[1.0]]) for p in io]
-        rotated = LFT.blkdiag(*outs) @ self.to_lft() @ LFT.blkdiag(*ins)
-        return MultiPortModel.from_lft(rotated, io, name or self.name)
+        return self._map_io_lft([r6 if not p.is_scalar else one for p in io], [r6.T if not p.is_scalar else one for p in io], name)
 
     def unscale_signals_lft(self, h_param, ports: Sequence[str], name: str | None = None) -> "MultiPortModel":
         """Convert the named 6-dof ports from scaled signals (``a r``, ``W / r``, ``r = h / h_param.center``) to physical ones.
@@ -713,8 +698,15 @@ class MultiPortModel:
             else:
                 outs += [LFT.constant([[1.0]])] * p.size
                 ins += [LFT.constant([[1.0]])] * p.size
-        out = LFT.blkdiag(*outs) @ self.to_lft() @ LFT.blkdiag(*ins)
-        return MultiPortModel.from_lft(out, io, name or self.name)
+        return self._map_io_lft(outs, ins, name)
+
+    def _map_io_lft(self, outs: Sequence, ins: Sequence, name: str | None) -> "MultiPortModel":
+        """``blkdiag(outs) @ M @ blkdiag(ins)`` on the io channels (blocks in io order), delta ports kept."""
+        from .lft import LFT
+
+        io = [p for p in self.ports if p.parameter is None]
+        mapped = LFT.blkdiag(*outs) @ self.to_lft() @ LFT.blkdiag(*ins)
+        return MultiPortModel.from_lft(mapped, io, name or self.name)
 
     def with_axis_channel(self, port: str, axis: ArrayLike, label: str, input_name: str, output_name: str) -> "MultiPortModel":
         """Add a scalar channel acting along the 6-vector ``axis`` of a clamped port.
