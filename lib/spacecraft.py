@@ -24,6 +24,7 @@ import control as ct
 import numpy as np
 
 from . import bodies, frames, paths
+from .lft import Parameter
 from .ports import MultiPortModel, connect
 from .reduction import static_gain
 from .titop import Section
@@ -113,9 +114,8 @@ class OpenLoop:
         return float(self.rigid_mass_at_p1()[0, 0])
 
 
-def uncertain_parameters(params: dict | None = None) -> dict[str, "Parameter"]:
+def uncertain_parameters(params: dict | None = None) -> dict[str, Parameter]:
     """The paper's uncertain parameters: hub mass and Iyy (+-20 %), first panel frequency (+-20 %), tau = tan(theta/4)."""
-    from .lft import Parameter
 
     p = params or load_parameters()
     hub, sp = p["hub"], p["solar_panel"]
@@ -127,9 +127,8 @@ def uncertain_parameters(params: dict | None = None) -> dict[str, "Parameter"]:
     }
 
 
-def tunable_h(params: dict | None = None) -> "Parameter":
+def tunable_h(params: dict | None = None) -> Parameter:
     """The tunable section side h [m] over the design range (nominal: the upper bound, the paper's baseline)."""
-    from .lft import Parameter
 
     tr = (params or load_parameters())["truss"]
     low, high = tr["h_range"]
