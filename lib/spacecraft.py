@@ -24,13 +24,14 @@ import control as ct
 import numpy as np
 
 from . import bodies, frames, paths
-from .lft import Parameter
+from .lft import LFT, Parameter
 from .ports import MultiPortModel, connect
-from .reduction import static_gain
+from .reduction import modal_reduction, static_gain
 from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass"]
+__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+           "reduced_uncertain_model", "scenario", "inertia_at_p1"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
@@ -226,3 +227,51 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     values = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
                   sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
     return OpenLoop(g, model, blocks, values, lft if (uncertain or tunable) else None)
+
+
+def reduced_uncertain_model(h: float, omega_max: float | None = 500.0, omega_min: float = 0.01, params: dict | None = None) -> LFT:
+    """``F_u(G_r(h), Delta)``: the uncertain open loop at section side h, modally reduced.
+
+    The certain part of :func:`open_loop` ``(h, uncertain=True)`` (its 40 Delta channels kept as
+    inputs and outputs, grouped by parameter) loses its spurious slow poles (|s| < ``omega_min``)
+    and, unless ``omega_max`` is None (``G_r_low``), its modes above ``omega_max`` [rad/s] by
+    residualisation (paper: section "System Reduction"). Every uncertainty scenario is then a
+    static closure of the Delta channels of this one reduced model.
+    """
+    lft = open_loop(h, uncertain=True, params=params).lft.grouped()
+    red = modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min, omega_max=omega_max)
+    return LFT(*red.reduced, lft.blocks, lft.params)
+
+
+def scenario(theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None, panel_omega1: float | None = None,
+             params: dict | None = None) -> dict[str, float]:
+    """Physical values of the uncertain parameters for :meth:`lib.lft.LFT.substitute` (``tau = tan(theta / 4)``).
+
+    Parameters
+    ----------
+    theta : float
+        Panel angle [rad], in [-pi, pi].
+    hub_mass, hub_iyy, panel_omega1 : float, optional
+        Hub mass [kg], hub Iyy [kg m^2], first panel frequency [rad/s] (nominal if omitted).
+    """
+    theta = _finite(theta, "theta")
+    if abs(theta) > np.pi + 1e-12:
+        raise ValueError(f"theta must be in [-pi, pi] rad (tau = tan(theta/4) in [-1, 1]), got {theta!r}")
+    unc = uncertain_parameters(params)
+    out = {"tau": float(np.tan(theta / 4))}
+    for name, value in (("M_SC", hub_mass), ("Iyy_SC", hub_iyy), ("omega1_SP", panel_omega1)):
+        out[name] = unc[name].nominal if value is None else _finite(value, name)
+    return out
+
+
+def inertia_at_p1(model: LFT) -> np.ndarray:
+    """Rigid inertia of the whole spacecraft at P1 [kg m^2] (3x3), from the DC gain ``W_P1 -> a_P1`` at nominal values.
+
+    The 6x6 DC gain is inverted (the CoG is not at P1) and its rotational block returned:
+    the ``J_tot`` of the paper's ACS design.
+    """
+    a, b, c, d = model.evaluate({name: p.nominal for name, p in model.params.items()})
+    ii = [INPUTS.index(f"W_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    oo = [OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    dc = d[np.ix_(oo, ii)] - c[oo] @ np.linalg.solve(a, b[:, ii])
+    return np.linalg.inv(dc)[3:, 3:]

@@ -1,0 +1,419 @@
+"""Worst-case gain of an upper LFT over repeated real scalar parameters (a replacement for MATLAB's ``wcgain``).
+
+At one frequency ``w`` [rad/s], ``M = M(jw)`` is partitioned as ``[z; e] = [[M11, M12], [M21, M22]] [w; p]`` and
+closed by ``w = Delta z``, ``Delta = diag(delta_1 I_k1, ..., delta_m I_km)``, ``delta_i`` real in ``[-1, 1]``:
+``F_u(M, Delta) = M22 + M21 Delta (I - M11 Delta)^-1 M12``. The worst-case gain is ``max_Delta sigma_max(F_u)``.
+
+* :func:`lft_upper` evaluates ``F_u`` (for one or many delta vectors).
+* :func:`wc_gain_upper` bounds it from above with mixed-mu D-G scalings (S-procedure): the LMI
+  ``Z^H Pi Z + E^H E - t P^H P <= -eps I``, ``Z = [[M11, M12], [I, 0]]``, ``E = [M21, M22]``, ``P = [0, I]``,
+  ``Pi = [[D, jG], [-jG, -D]]``, ``D = blkdiag(D_i) >= 0``, ``G = blkdiag(G_i)`` Hermitian (full ``k_i x k_i``
+  blocks). A real ``Delta`` commutes with ``D`` and ``G``, so ``[z; w]^H Pi [z; w] = z^H D (I - Delta^2) z >= 0``
+  and the LMI gives ``|e|^2 <= t |p|^2``; its negative definite ``(1, 1)`` block gives well-posedness. The SDP
+  (cvxpy, built once per block structure with the data as parameters) minimises ``t``; the bound is then
+  *re-certified* in floating point from the scalings alone (``t = lambda_max`` of a Schur complement), so an
+  inaccurate solve can only loosen the bound, never make it invalid.
+* :func:`wc_gain_upper_sweep` applies it on a frequency grid (nothing is claimed between grid points).
+* :func:`wc_gain_lower` returns an *achieved* gain: corners and random points on the grid, then L-BFGS-B
+  over ``(delta, log w)``.
+"""
+
+from __future__ import annotations
+
+import functools
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import cvxpy as cp
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import minimize
+
+__all__ = ["UpperBound", "UpperSweep", "LowerBound", "lft_upper", "wc_gain_upper", "wc_gain_upper_sweep", "wc_gain_lower"]
+
+_EPS_LMI = 1e-7  # strictness of the LMI, in the normalised coordinates
+_MAX_COND = 1e14  # I - M11 Delta (of the balanced M) with a larger condition number is singular (ill-posed)
+MOfW = Callable[[float], ArrayLike] | ArrayLike
+
+
+@dataclass(frozen=True)
+class UpperBound:
+    """Certified upper bound ``beta >= max_Delta sigma_max(F_u(M, Delta))`` at one frequency.
+
+    ``d``, ``g`` are the D-G scalings (block diagonal, in the coordinates of the given ``M``) for which the LMI
+    holds with ``t = beta**2``; ``well_posed_margin = -lambda_max`` of the LMI's ``(1, 1)`` block in the
+    normalised coordinates (positive: well-posedness certified). ``beta = inf`` (and NaN scalings) when the
+    solver fails or the certificate does not hold; ``status`` is the cvxpy status (plus the reason).
+    """
+
+    beta: float
+    d: NDArray[np.complex128]
+    g: NDArray[np.complex128]
+    status: str
+    well_posed_margin: float
+
+
+@dataclass(frozen=True)
+class UpperSweep:
+    """Upper bounds on a frequency grid [rad/s]; ``beta_max`` at ``omega_max`` (a grid maximum)."""
+
+    omegas: NDArray[np.float64]
+    betas: NDArray[np.float64]
+    statuses: tuple[str, ...]
+    beta_max: float
+    omega_max: float
+
+
+@dataclass(frozen=True)
+class LowerBound:
+    """Achieved gain ``sigma_max(F_u(M(j omega), Delta(deltas)))`` (``omega`` in rad/s) after ``evaluations``."""
+
+    gain: float
+    omega: float
+    deltas: NDArray[np.float64]
+    evaluations: int
+
+
+def _block_sizes(blocks: Sequence) -> tuple[int, ...]:
+    """Repetitions ``k_i`` from ints or ``(name, k)`` pairs (as :meth:`lib.lft.LFT.delta_structure`)."""
+    sizes = tuple(b[-1] if isinstance(b, (tuple, list)) else b for b in blocks)
+    if not sizes or not all(isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k > 0 for k in sizes):
+        raise ValueError(f"blocks: need a non-empty sequence of positive ints or (name, int) pairs, got {blocks!r}")
+    return tuple(int(k) for k in sizes)
+
+
+def _check_m(m: ArrayLike, sizes: tuple[int, ...], name: str = "m") -> NDArray[np.complex128]:
+    m = np.asarray(m, dtype=complex)
+    n = sum(sizes)
+    if m.ndim != 2 or m.shape[0] <= n or m.shape[1] <= n:
+        raise ValueError(f"{name}: need a 2-D matrix larger than the {n} Delta channels of blocks {sizes} in both "
+                         f"dimensions (at least one performance input and output), got shape {m.shape}")
+    if not np.all(np.isfinite(m)):
+        raise ValueError(f"{name}: entries must be finite")
+    return m
+
+
+def _balanced(m: ArrayLike, sizes: tuple[int, ...], name: str = "m") -> tuple[NDArray[np.complex128], float]:
+    """Checked and balanced ``M'`` (see :func:`_balance`) and the factor ``s`` with ``F_u(M) = s F_u(M')``."""
+    ms, _, ce, cpv = _balance(_check_m(m, sizes, name), sum(sizes))
+    return ms, 1.0 / (ce * cpv)
+
+
+def _fu(m: NDArray, sizes: tuple[int, ...], d2: NDArray) -> NDArray[np.complex128]:
+    """``F_u`` for the rows of ``d2`` (shape ``(N, n_blocks)``); raises on ill-posedness (``m`` balanced)."""
+    n = sum(sizes)
+    dv = np.repeat(d2, sizes, axis=1)
+    r = np.eye(n) - m[None, :n, :n] * dv[:, None, :]
+    cond = np.linalg.cond(r)
+    if not np.all(cond < _MAX_COND):
+        bad = d2[np.argmax(~(cond < _MAX_COND))]
+        raise ValueError(f"ill-posed LFT: I - M11 Delta is singular for deltas = {bad.tolist()}")
+    x = np.linalg.solve(r, np.broadcast_to(m[:n, n:], (len(dv), n, m.shape[1] - n)))
+    return m[n:, n:] + m[n:, :n] @ (dv[:, :, None] * x)
+
+
+def _check_deltas(deltas: ArrayLike, n_blocks: int) -> NDArray[np.float64]:
+    d = np.asarray(deltas, dtype=float)
+    if d.ndim not in (1, 2) or d.shape[-1] != n_blocks:
+        raise ValueError(f"deltas: need shape ({n_blocks},) or (N, {n_blocks}) (one value per block), got {d.shape}")
+    if not np.all(np.abs(d) <= 1.0):
+        raise ValueError("deltas: values must be finite and in [-1, 1]")
+    return d
+
+
+def lft_upper(m: ArrayLike, blocks: Sequence, deltas: ArrayLike) -> NDArray[np.complex128]:
+    """Upper LFT ``F_u(M, Delta) = M22 + M21 Delta (I - M11 Delta)^-1 M12``.
+
+    Parameters
+    ----------
+    m : array_like, shape (n + n_e, n + n_p)
+        Complex matrix ``M(jw)``, Delta channels first.
+    blocks : sequence of int or (name, int)
+        Repetitions ``k_i`` of the real scalar blocks (``n = sum k_i``).
+    deltas : array_like, shape (n_blocks,) or (N, n_blocks)
+        One value in ``[-1, 1]`` per block (or N such vectors).
+
+    Returns
+    -------
+    ndarray, shape (n_e, n_p) or (N, n_e, n_p)
+
+    Raises
+    ------
+    ValueError
+        On a bad block structure, shape or value, or if ``I - M11 Delta`` is singular (ill-posed).
+    """
+    sizes = _block_sizes(blocks)
+    ms, scale = _balanced(m, sizes)
+    d = _check_deltas(deltas, len(sizes))
+    f = scale * _fu(ms, sizes, np.atleast_2d(d))
+    return f[0] if d.ndim == 1 else f
+
+
+def _realify(h: NDArray) -> NDArray[np.float64]:
+    """Real symmetric form ``[[Re H, -Im H], [Im H, Re H]]`` of (a stack of) Hermitian ``H``."""
+    return np.concatenate([np.concatenate([h.real, -h.imag], -1), np.concatenate([h.imag, h.real], -1)], -2)
+
+
+@functools.lru_cache(maxsize=32)
+def _hermitian_basis(sizes: tuple[int, ...]) -> NDArray[np.complex128]:
+    """Real basis of ``blkdiag`` of Hermitian ``k_i x k_i`` blocks: array ``(sum k_i^2, n, n)``, block by block."""
+    n, mats, off = sum(sizes), [], 0
+    for k in sizes:
+        for a in range(k):
+            for b in range(a, k):
+                for val in ((1.0,) if a == b else (1.0, 1j)):
+                    h = np.zeros((n, n), complex)
+                    h[off + a, off + b], h[off + b, off + a] = val, np.conj(val)
+                    mats.append(h)
+        off += k
+    return np.array(mats)
+
+
+@functools.lru_cache(maxsize=16)
+def _sdp(sizes: tuple[int, ...], n_p: int) -> tuple[cp.Problem, cp.Parameter, cp.Parameter, cp.Variable]:
+    """DPP problem ``min t`` s.t. ``B [y_D; y_G] + q0 - t vec(P^H P) << 0``, ``D_i >> 0``; data ``B``, ``q0``."""
+    n, basis = sum(sizes), _hermitian_basis(sizes)
+    nc, nb = n + n_p, len(basis)
+    y, t = cp.Variable(2 * nb), cp.Variable()
+    b, q0 = cp.Parameter((4 * nc * nc, 2 * nb)), cp.Parameter(4 * nc * nc)
+    pp = _realify(np.diag(np.r_[np.zeros(n), np.ones(n_p)]).astype(complex)).ravel()
+    cons = [cp.reshape(b @ y + q0 - t * pp, (2 * nc, 2 * nc), order="F") << 0]
+    start, off = 0, 0
+    for k in sizes:  # D_i >> 0, from the basis coefficients of block i
+        loc = _realify(basis[start:start + k * k, off:off + k, off:off + k]).reshape(k * k, -1).T
+        cons.append(cp.reshape(loc @ y[start:start + k * k], (2 * k, 2 * k), order="F") >> 0)
+        start, off = start + k * k, off + k
+    return cp.Problem(cp.Minimize(t), cons), b, q0, y
+
+
+def _balance(m: NDArray, n: int, sweeps: int = 20) -> tuple[NDArray, NDArray, float, float]:
+    """Diagonal similarity ``T`` on the Delta channels, scalars ``c_e``, ``c_p`` on ``e``, ``p`` (Osborne-like):
+    returns ``(diag(T, c_e) M diag(T^-1, c_p), T, c_e, c_p)``; ``F_u`` of the result is ``c_e c_p F_u(M)``."""
+    s = np.abs(m)
+    s[np.arange(n), np.arange(n)] = 0.0
+    tv, ce, cpv = np.ones(n), 1.0, 1.0
+    for _ in range(sweeps):
+        worst = 0.0
+        for i in range(n):
+            c, r = np.linalg.norm(s[:, i]), np.linalg.norm(s[i, :])
+            if c > 0 and r > 0:
+                f = np.sqrt(c / r)
+                s[i, :], s[:, i], tv[i], worst = s[i, :] * f, s[:, i] / f, tv[i] * f, max(worst, abs(np.log(f)))
+        for rows, is_e in ((np.s_[n:, :], True), (np.s_[:, n:], False)):
+            nrm = np.linalg.norm(s[rows])
+            if nrm > 0:
+                s[rows] /= nrm
+                worst = max(worst, abs(np.log(nrm)))
+                ce, cpv = (ce / nrm, cpv) if is_e else (ce, cpv / nrm)
+        if worst < 1e-3:
+            break
+    left, right = np.r_[tv, np.full(m.shape[0] - n, ce)], np.r_[1.0 / tv, np.full(m.shape[1] - n, cpv)]
+    return left[:, None] * m * right[None, :], tv, ce, cpv
+
+
+def _lmi_forms(ms: NDArray, n: int, dmat: NDArray, gmat: NDArray) -> NDArray:
+    """``Z^H Pi Z`` for (a stack of) ``D``, ``G`` (``G`` may be a zero array)."""
+    nh, jm = ms[:n, :].conj().T, np.eye(n, ms.shape[1])
+    ngj = nh @ gmat @ jm
+    return nh @ dmat @ nh.conj().T - jm.T @ dmat @ jm + 1j * (ngj - np.swapaxes(ngj.conj(), -1, -2))
+
+
+def _certify(ms: NDArray, sizes: tuple[int, ...], dmat: NDArray, gmat: NDArray) -> tuple[float, float, NDArray]:
+    """Smallest ``t`` (and margin) for which the LMI holds with the given scalings, after projecting ``D >= 0``."""
+    n, off = sum(sizes), 0
+    dmat = 0.5 * (dmat + dmat.conj().T)
+    for k in sizes:
+        lam, vec = np.linalg.eigh(dmat[off:off + k, off:off + k])
+        dmat[off:off + k, off:off + k] = (vec * np.maximum(lam, 0.0)) @ vec.conj().T
+        off += k
+    e = ms[n:, :]
+    a = _lmi_forms(ms, n, dmat, 0.5 * (gmat + gmat.conj().T)) + e.conj().T @ e
+    a = 0.5 * (a + a.conj().T)
+    margin = -np.linalg.eigvalsh(a[:n, :n])[-1]
+    if not margin > 1e-12 * (1.0 + np.linalg.norm(a)):
+        return np.inf, margin, dmat
+    schur = a[n:, n:] - a[n:, :n] @ np.linalg.solve(a[:n, :n], a[:n, n:])
+    return max(np.linalg.eigvalsh(0.5 * (schur + schur.conj().T))[-1], 0.0), margin, dmat
+
+
+def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", **solver_opts) -> UpperBound:
+    """Certified upper bound on ``max_Delta sigma_max(F_u(M, Delta))`` at one frequency (D-G scaling LMI).
+
+    Parameters
+    ----------
+    m : array_like, shape (n + n_e, n + n_p)
+        Complex matrix ``M(jw)``, Delta channels first.
+    blocks : sequence of int or (name, int)
+        Repetitions of the real scalar blocks.
+    solver : str
+        cvxpy SDP solver (``"CLARABEL"`` or ``"SCS"``).
+    **solver_opts
+        Passed to the solver; for Clarabel the tolerances default to 1e-7 (the bound is re-certified anyway).
+
+    Returns
+    -------
+    UpperBound
+        ``beta = inf`` if the solve fails or robust well-posedness cannot be certified.
+    """
+    sizes = _block_sizes(blocks)
+    m = _check_m(m, sizes)
+    n = sum(sizes)
+    ms, tv, ce, cpv = _balance(m, n)
+    basis = _hermitian_basis(sizes)
+    qd = _lmi_forms(ms, n, basis, np.zeros_like(basis))
+    qg = _lmi_forms(ms, n, np.zeros_like(basis), basis)
+    prob, b, q0, y = _sdp(sizes, ms.shape[1] - n)
+    b.value = _realify(np.concatenate([qd, qg])).reshape(2 * len(basis), -1).T
+    e = ms[n:, :]
+    q0.value = _realify(e.conj().T @ e + _EPS_LMI * np.eye(ms.shape[1])).ravel()
+    nan = np.full((n, n), np.nan + 0j)
+    try:
+        opts = {"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7} if solver.upper() == "CLARABEL" else {}
+        with warnings.catch_warnings():  # "Solution may be inaccurate": reported in the status
+            warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+            prob.solve(solver=solver, **(opts | solver_opts))
+    except cp.error.SolverError as exc:
+        return UpperBound(np.inf, nan, nan, f"solver_error: {exc}", np.nan)
+    if prob.status not in ("optimal", "optimal_inaccurate") or y.value is None:
+        return UpperBound(np.inf, nan, nan, str(prob.status), np.nan)
+    coef = np.asarray(y.value)
+    dmat = np.einsum("k,kij->ij", coef[:len(basis)], basis)
+    gmat = np.einsum("k,kij->ij", coef[len(basis):], basis)
+    t, margin, dmat = _certify(ms, sizes, dmat, gmat)
+    if not np.isfinite(t):
+        return UpperBound(np.inf, nan, nan, f"{prob.status}: certificate failed (well-posedness)", float(margin))
+    scale = tv[:, None] * tv[None, :] / ce**2  # back to the coordinates of m
+    return UpperBound(float(np.sqrt(t) / (ce * cpv)), dmat * scale, gmat * scale, str(prob.status), float(margin))
+
+
+def _m_at(m_of_w: MOfW, omegas: NDArray) -> Callable[[int | None, float], NDArray]:
+    """``get(i, w)``: ``M`` at grid index ``i`` (array input) or at any ``w`` (callable input)."""
+    if callable(m_of_w):
+        return lambda i, w: np.asarray(m_of_w(float(w)))
+    arr = np.asarray(m_of_w)
+    if arr.ndim != 3 or arr.shape[0] != len(omegas):
+        raise ValueError(f"m_of_w: need a callable or an array (n_w={len(omegas)}, rows, cols), got shape {arr.shape}")
+    return lambda i, w: arr[i]
+
+
+def _check_omegas(omegas: ArrayLike) -> NDArray[np.float64]:
+    w = np.atleast_1d(np.asarray(omegas, dtype=float))
+    if w.ndim != 1 or not w.size or not np.all(np.isfinite(w) & (w > 0)) or np.any(np.diff(w) <= 0):
+        raise ValueError("omegas: need a non-empty, strictly increasing 1-D array of positive finite rad/s")
+    return w
+
+
+def wc_gain_upper_sweep(m_of_w: MOfW, omegas: ArrayLike, blocks: Sequence, solver: str = "CLARABEL") -> UpperSweep:
+    """:func:`wc_gain_upper` at each frequency of ``omegas`` [rad/s]; ``m_of_w`` is ``w -> M(jw)`` or an array
+    of shape ``(n_w, rows, cols)``. The maximum is over the grid only."""
+    w = _check_omegas(omegas)
+    get = _m_at(m_of_w, w)
+    res = [wc_gain_upper(_check_m(get(i, wi), _block_sizes(blocks), f"m_of_w({wi:g})"), blocks, solver)
+           for i, wi in enumerate(w)]
+    betas = np.array([r.beta for r in res])
+    i_max = int(np.argmax(betas))
+    return UpperSweep(w, betas, tuple(r.status for r in res), float(betas[i_max]), float(w[i_max]))
+
+
+def _gain_grad(m: NDArray, sizes: tuple[int, ...], d: NDArray) -> tuple[float, NDArray]:
+    """``sigma_max(F_u)`` and its gradient in the block deltas (``Re u^H dF v``, ``dF = M21 L^-1 E_i R^-1 M12``)."""
+    n = sum(sizes)
+    dv = np.repeat(d, sizes)
+    r = np.eye(n) - m[:n, :n] * dv[None, :]
+    if not np.linalg.cond(r) < _MAX_COND:
+        raise ValueError(f"ill-posed LFT: I - M11 Delta is singular for deltas = {d.tolist()}")
+    x = np.linalg.solve(r, m[:n, n:])
+    u, s, vh = np.linalg.svd(m[n:, n:] + m[n:, :n] @ (dv[:, None] * x))
+    left = np.linalg.solve((np.eye(n) - dv[:, None] * m[:n, :n]).T, m[n:, :n].T @ u[:, 0].conj())
+    per_channel = np.real(left * (x @ vh[0].conj()))
+    return float(s[0]), np.add.reduceat(per_channel, np.r_[0, np.cumsum(sizes)[:-1]])
+
+
+def wc_gain_lower(m_of_w: MOfW, blocks: Sequence, omegas: ArrayLike, n_starts: int = 6, n_random: int = 64,
+                  rng: np.random.Generator | int | None = None, maxiter: int = 200) -> LowerBound:
+    """Achieved worst-case gain (a lower bound on the worst-case H-infinity norm).
+
+    Parameters
+    ----------
+    m_of_w : callable or array_like
+        ``w -> M(jw)`` (w in rad/s), or an array ``(n_w, rows, cols)`` on ``omegas`` (no frequency refinement).
+    blocks : sequence of int or (name, int)
+        Repetitions of the real scalar blocks.
+    omegas : array_like
+        Increasing frequency grid [rad/s] (make it peak-aware).
+    n_starts : int
+        Number of local searches, from the best grid points (at most half of them at one frequency).
+    n_random : int
+        Random delta vectors per frequency, besides the box corners (all of them if ``2**m <= 1024``) and 0.
+    rng : Generator, int or None
+        Random generator or seed.
+    maxiter : int
+        L-BFGS-B iterations per local search (over the deltas and ``log w`` between the neighbouring grid points).
+
+    Returns
+    -------
+    LowerBound
+        The best evaluated point: ``gain`` is attained at (``omega``, ``deltas``).
+
+    Raises
+    ------
+    ValueError
+        On bad arguments, or if the LFT is found ill-posed (``I - M11 Delta`` singular) at a point of the box.
+    """
+    sizes = _block_sizes(blocks)
+    w = _check_omegas(omegas)
+    get, rng, nbk = _m_at(m_of_w, w), np.random.default_rng(rng), len(sizes)
+    corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * nbk, indexing="ij")).reshape(nbk, -1).T if nbk <= 10 \
+        else rng.choice([-1.0, 1.0], size=(1024, nbk))
+    best = {"gain": -1.0, "omega": np.nan, "deltas": np.zeros(nbk), "n": 0}
+    mats: dict[float, tuple[NDArray, float]] = {}
+
+    def gain_grad(i: int | None, wi: float, d: NDArray) -> tuple[float, NDArray]:
+        if wi not in mats:
+            mats[wi] = _balanced(get(i, wi), sizes, f"m_of_w({wi:g})")
+        gain, grad = _gain_grad(mats[wi][0], sizes, d)
+        return gain * mats[wi][1], grad * mats[wi][1]
+
+    def record(gain: float, wi: float, d: NDArray) -> None:
+        best["n"] += 1
+        if gain > best["gain"]:
+            best.update(gain=gain, omega=wi, deltas=d.copy())
+
+    per_freq = []
+    for i, wi in enumerate(w):
+        cand = np.vstack([np.zeros(nbk), corners, rng.uniform(-1.0, 1.0, (n_random, nbk))])
+        ms, scale = _balanced(get(i, wi), sizes, f"m_of_w({wi:g})")
+        gains = scale * np.linalg.norm(_fu(ms, sizes, cand), 2, axis=(1, 2))
+        top = np.argsort(-gains)[:n_starts]
+        best["n"] += len(cand) - 1
+        record(float(gains[top[0]]), wi, cand[top[0]])
+        per_freq += [(gains[j], i, cand[j]) for j in top]
+    starts, count = [], np.zeros(len(w), int)
+    cap = n_starts if len(w) == 1 else -(-n_starts // 2)  # starts per frequency
+    for c in sorted(per_freq, key=lambda c: -c[0]):
+        if len(starts) < n_starts and count[c[1]] < cap:
+            starts.append(c)
+            count[c[1]] += 1
+    refine_w = callable(m_of_w) and len(w) > 1
+    h = 1e-7  # step in log w for the central difference
+    for g0, i, d0 in starts:
+        scale = max(g0, 1e-300)
+
+        def fun(v: NDArray, i: int = i, scale: float = scale) -> tuple[float, NDArray]:
+            d, wi = np.clip(v[:nbk], -1.0, 1.0), (float(np.exp(v[nbk])) if refine_w else w[i])
+            gain, grad = gain_grad(i, wi, d)
+            record(gain, wi, d)
+            if not refine_w:
+                return -gain / scale, -grad / scale
+            gp, gm = (gain_grad(None, wi * np.exp(s), d)[0] for s in (h, -h))
+            best["n"] += 2  # counted, not recorded: they may lie just outside the bracket
+            return -gain / scale, -np.r_[grad, (gp - gm) / (2 * h)] / scale
+
+        bounds = [(-1.0, 1.0)] * nbk
+        v0 = d0
+        if refine_w:
+            bounds.append((np.log(w[max(i - 1, 0)]), np.log(w[min(i + 1, len(w) - 1)])))
+            v0 = np.r_[d0, np.log(w[i])]
+        minimize(fun, v0, jac=True, method="L-BFGS-B", bounds=bounds, options={"maxiter": maxiter})
+    return LowerBound(float(best["gain"]), float(best["omega"]), np.asarray(best["deltas"]), int(best["n"]))

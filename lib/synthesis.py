@@ -1,0 +1,570 @@
+"""Robust structured H-infinity synthesis of the static PMA gain (the ``systune`` step of the paper).
+
+Paper: section "Co-design optimization architecture", Step 3: find the 4x8 gain ``K_PMA`` that minimises
+``J_c = max_Delta ||T_{p~ -> RPE}||_inf`` subject to the hard constraint ``Z_c = max_Delta ||T_{p~ -> W~u}||_inf
+< gamma_u`` and closed-loop stability, for the uncertain closed loop of :mod:`lib.closedloop`.
+
+Method (in the spirit of Apkarian and Noll's ``systune``, written here because no Python package does
+multi-model structured H-infinity synthesis):
+
+* **multi-model**: a finite set of uncertainty scenarios (nominal, box corners at several panel angles) is
+  grown by a worst-case search over the whole parameter box (dynamic sampling);
+* **peaks**: for each scenario the closed loop is put in modal form; its largest singular value is
+  evaluated on a peak-aware grid (log points plus every lightly damped closed-loop pole frequency) and
+  each local maximum is refined by golden-section search; the peak is checked by a direct solve;
+* **nonsmooth step**: every peak within a band of the current maximum is linearised (gradient from the
+  singular vectors at the peak frequency, exact for a static gain) and a trust-region linear program
+  (HiGHS) minimises the largest linearised RPE peak while keeping the linearised effort peaks below
+  ``gamma_u``; a step is accepted only if all scenarios stay stable and the true maxima behave;
+* **stabilisation**: from a destabilising start (e.g. a warm start from another h) the spectral abscissa
+  is first pushed below ``-min_decay`` by the same trust-region LP on eigenvalue gradients.
+
+A synthesis that does not reach a stable, feasible, converged point is returned with
+``success = False`` and the reason; it is never reported as a result.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linprog, minimize
+from threadpoolctl import threadpool_limits
+
+from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
+from .lft import LFT
+
+__all__ = ["Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
+           "plant_at", "default_scenarios"]
+
+GROUPS = ("rpe", "effort")
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """One uncertainty scenario: normalised values in [-1, 1] of M_SC, Iyy_SC, omega1_SP and the panel angle.
+
+    ``theta`` is the panel angle [rad] (``tau = tan(theta / 4)``).
+    """
+
+    d_mass: float = 0.0
+    d_iyy: float = 0.0
+    d_omega1: float = 0.0
+    theta: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("d_mass", "d_iyy", "d_omega1"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and abs(v) <= 1 + 1e-12):
+                raise ValueError(f"Scenario.{name} is a normalised value and must be in [-1, 1], got {v!r}")
+        if not (np.isfinite(self.theta) and abs(self.theta) <= np.pi + 1e-12):
+            raise ValueError(f"Scenario.theta must be in [-pi, pi] rad, got {self.theta!r}")
+
+    def normalized(self) -> dict[str, float]:
+        """Normalised values for :meth:`lib.lft.LFT.substitute` (``normalized=True``)."""
+        return {"M_SC": self.d_mass, "Iyy_SC": self.d_iyy, "omega1_SP": self.d_omega1, "tau": float(np.tan(self.theta / 4))}
+
+    def physical(self, model: LFT) -> dict[str, float]:
+        """Physical values: hub mass [kg], hub Iyy [kg m^2], first panel frequency [rad/s], theta [deg]."""
+        out = {k: model.params[k].from_delta(v) for k, v in self.normalized().items() if k != "tau"}
+        return {**out, "theta_deg": float(np.rad2deg(self.theta))}
+
+    @classmethod
+    def from_vector(cls, x: ArrayLike) -> "Scenario":
+        """From ``[d_mass, d_iyy, d_omega1, theta]`` (clipped to the box)."""
+        x = np.asarray(x, dtype=float)
+        return cls(*np.clip(x[:3], -1, 1), float(np.clip(x[3], 0.0, np.pi)))
+
+    def vector(self) -> NDArray[np.float64]:
+        """``[d_mass, d_iyy, d_omega1, theta]``."""
+        return np.array([self.d_mass, self.d_iyy, self.d_omega1, self.theta])
+
+
+CORNERS = ((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, -1.0), (1.0, -1.0, 1.0))
+
+
+def default_scenarios(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0, 180.0),
+                      corners: Sequence[tuple[float, float, float]] = CORNERS) -> list[Scenario]:
+    """Nominal, plus box corners of (M_SC, Iyy_SC, omega1_SP) at each panel angle [deg].
+
+    The default corners are all-low, all-high and the two mixed ones that couple the hub's mass and
+    inertia in opposite directions (the worst cases found by the searches at the paper's h).
+    """
+    out = [Scenario()]
+    for th in thetas_deg:
+        for c in corners:
+            out.append(Scenario(*c, float(np.deg2rad(th))))
+    return out
+
+
+@contextmanager
+def _workers(n: int | None):
+    """A thread pool (LAPACK releases the GIL) with one BLAS thread per worker: no oversubscription."""
+    n = max(1, min(os.cpu_count() or 1, 2) if n is None else int(n))
+    with threadpool_limits(1), ThreadPoolExecutor(n) as pool:
+        yield pool.map
+
+
+def plant_at(model: LFT, scenario: Scenario, inertia_p1: ArrayLike, settings: LoopSettings, keep: Sequence[str] = ()) -> GeneralizedPlant:
+    """Generalized plant at a scenario; the parameters in ``keep`` stay as open Delta channels."""
+    values = {k: v for k, v in scenario.normalized().items() if k not in keep}
+    sub = model.substitute(values, normalized=True)
+    return generalized_plant(sub.a, sub.b, sub.c, sub.d, inertia_p1, settings, n_delta=sub.n_delta)
+
+
+# ----------------------------------------------------------------------------- peaks of the closed loop
+@dataclass
+class LoopPeaks:
+    """Peaks of the closed loop with a static gain at one scenario.
+
+    ``peaks[group]`` is a list of ``(value, omega)`` local maxima of the largest singular value of the
+    group's transfer from p~ (``"rpe"`` or ``"effort"``), largest first; ``abscissa`` is the largest real
+    part of the closed-loop poles [1/s] and ``stable`` whether it is below ``-min_decay``.
+    """
+
+    peaks: dict[str, list[tuple[float, float]]]
+    abscissa: float
+    stable: bool
+    checked: float = 0.0  # relative difference of the top peak between modal and direct evaluation
+
+    def norm(self, group: str) -> float:
+        """Largest peak of a group (inf if unstable)."""
+        return self.peaks[group][0][0] if self.stable else np.inf
+
+    def omega(self, group: str) -> float:
+        """Frequency of the largest peak [rad/s]."""
+        return self.peaks[group][0][1]
+
+
+def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> NDArray:
+    """Largest singular value of ``CV diag(1/(jw - lam)) VB + D`` at each w."""
+    h = (cv[None, :, :] * (1.0 / (1j * w[:, None] - lam[None, :]))[:, None, :]) @ vb + d
+    if h.shape[2] == 1:
+        return np.sqrt(np.sum(np.abs(h[:, :, 0]) ** 2, axis=1))
+    return np.linalg.svd(h, compute_uv=False)[:, 0]
+
+
+def _golden(fun, lo: float, hi: float, tol: float = 1e-10, max_iter: int = 80) -> tuple[float, float]:
+    """Maximise a unimodal ``fun(log w)`` on ``[lo, hi]`` by golden-section search; returns ``(value, log w)``."""
+    g = (np.sqrt(5) - 1) / 2
+    a, b = lo, hi
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = fun(c), fun(d)
+    for _ in range(max_iter):
+        if b - a < tol:
+            break
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = fun(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = fun(d)
+    return (fc, c) if fc > fd else (fd, d)
+
+
+def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[float, float] = (1e-2, 3e3), n_log: int = 120,
+               n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS) -> LoopPeaks:
+    """Peaks of ``sigma_max(T_{p~ -> group}(jw))`` of the closed loop, on a peak-aware grid, refined.
+
+    Parameters
+    ----------
+    plant : GeneralizedPlant
+        Without open Delta channels.
+    gain : array_like (4, 8)
+        Static PMA gain.
+    omega_range : tuple of float
+        Frequency range searched [rad/s].
+    n_log : int
+        Log-spaced points, to which every closed-loop pole frequency with damping below 0.3 is added
+        (with points at ``w_d (1 +- zeta)``), so that no lightly damped peak is missed.
+    n_peaks : int
+        Local maxima kept per group (each refined by golden-section search in log frequency).
+    min_decay : float
+        Stability margin: all poles must have real part below ``-min_decay`` [1/s].
+    """
+    if plant.n_delta:
+        raise ValueError("loop_peaks needs a plant without open Delta channels (substitute the uncertain parameters)")
+    a, b, c, d = plant.closed_loop(gain)
+    sl = plant.slices()
+    b, d = b[:, sl["p"]], d[:, sl["p"]]
+    lam, vec = np.linalg.eig(a)
+    abscissa = float(np.max(lam.real)) if lam.size else -np.inf
+    cv_all, vb = c @ vec, np.linalg.solve(vec, b)
+    wn = np.abs(lam)
+    zeta = -lam.real / np.maximum(wn, 1e-300)
+    wd = np.abs(lam.imag)
+    lo, hi = omega_range
+    sel = (zeta < 0.3) & (wd > lo) & (wd < hi)
+    grid = np.unique(np.r_[np.geomspace(lo, hi, n_log), wd[sel], (wd * (1 - zeta))[sel], (wd * (1 + zeta))[sel]])
+    out: dict[str, list[tuple[float, float]]] = {}
+    checked = 0.0
+    for group in groups:
+        cv, dg = cv_all[sl[group]], d[sl[group]]
+        s = _sv_max(cv, lam, vb, dg, grid)
+        interior = np.flatnonzero((s[1:-1] >= s[:-2]) & (s[1:-1] >= s[2:])) + 1
+        cand = np.r_[interior, [0, grid.size - 1]]
+        cand = cand[np.argsort(s[cand])[::-1]][:n_peaks]
+        peaks = []
+        for i in cand:
+            if 0 < i < grid.size - 1:
+                val, lw = _golden(lambda x: float(_sv_max(cv, lam, vb, dg, np.array([np.exp(x)]))[0]),
+                                  np.log(grid[i - 1]), np.log(grid[i + 1]))
+                peaks.append((max(val, float(s[i])), float(np.exp(lw)) if val >= s[i] else float(grid[i])))
+            else:
+                peaks.append((float(s[i]), float(grid[i])))
+        peaks.sort(reverse=True)
+        # check the top peak against a direct solve (modal form can lose accuracy for close poles)
+        w0 = peaks[0][1]
+        ref = dg + c[sl[group]] @ np.linalg.solve(1j * w0 * np.eye(a.shape[0]) - a, b)
+        direct = float(np.linalg.svd(ref, compute_uv=False)[0])
+        checked = max(checked, abs(direct - peaks[0][0]) / max(direct, 1e-300))
+        if checked > 1e-6:
+            peaks[0] = (direct, w0)
+        out[group] = peaks
+    return LoopPeaks(out, abscissa, abscissa < -min_decay, checked)
+
+
+def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: float) -> tuple[float, NDArray[np.float64]]:
+    """``sigma_max(T(jw))`` and its gradient with respect to the static gain K (4x8) at frequency ``omega``.
+
+    With ``T = P_zp + P_zv K (I - P_yv K)^-1 P_yp``: ``dT = P_zv (I - K P_yv)^-1 dK (I - P_yv K)^-1 P_yp``,
+    so ``d sigma = Re(u^H dT v)`` for the top singular pair ``(u, v)`` (a subgradient if sigma_max is multiple).
+    """
+    k = np.asarray(gain, dtype=float)
+    sl = plant.slices()
+    nr, ne = plant.n_reg, plant.n_exo
+    p = plant.freqresp([omega])[:, :, 0]
+    p_zp, p_zv = p[sl[group], sl["p"]], p[sl[group], ne:]
+    p_yp, p_yv = p[nr:, sl["p"]], p[nr:, ne:]
+    left = p_zv @ np.linalg.inv(np.eye(k.shape[0]) - k @ p_yv)
+    right = np.linalg.solve(np.eye(p_yv.shape[0]) - p_yv @ k, p_yp)
+    t = p_zp + p_zv @ k @ right
+    u, s, vh = np.linalg.svd(t)
+    grad = np.real(np.outer(u[:, 0].conj() @ left, right @ vh[0].conj()))
+    return float(s[0]), grad
+
+
+def _abscissa_gradient(plant: GeneralizedPlant, gain: NDArray, n: int = 3) -> list[tuple[float, NDArray]]:
+    """Real parts of the ``n`` rightmost closed-loop poles and their gradients with respect to K."""
+    nr, ne = plant.n_reg, plant.n_exo
+    b_v, c_y = plant.b[:, ne:], plant.c[nr:, :]
+    a = plant.a + b_v @ gain @ c_y
+    lam, vr = np.linalg.eig(a)
+    order = np.argsort(lam.real)[::-1][:n]
+    vl = np.linalg.inv(vr)  # rows: left eigenvectors with vl @ vr = I
+    return [(float(lam[i].real), np.real(np.outer(vl[i] @ b_v, c_y @ vr[:, i]))) for i in order]
+
+
+# ----------------------------------------------------------------------------- worst case over the box
+@dataclass
+class WorstCase:
+    """Worst case over the uncertainty box found by a search: value, scenario and peak frequency per group."""
+
+    value: dict[str, float]
+    scenario: dict[str, Scenario]
+    omega: dict[str, float]
+    evaluations: int
+    unstable: list[Scenario] = field(default_factory=list)
+
+
+def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, thetas_deg: Sequence[float] | None = None,
+               refine: int = 2, max_evals: int = 40, min_decay: float = 1e-7, workers: int | None = None) -> WorstCase:
+    """Search the uncertainty box for the worst RPE and effort peaks with a given gain.
+
+    Candidates: the 8 corners of (M_SC, Iyy_SC, omega1_SP) and the nominal, at each panel angle of
+    ``thetas_deg`` (default 13 angles, 0 to 180 deg); then the ``refine`` best candidates of each group
+    are improved by a bounded Nelder-Mead search over (d_mass, d_iyy, d_omega1, theta).
+    """
+    thetas = np.deg2rad(np.linspace(0.0, 180.0, 13) if thetas_deg is None else np.asarray(thetas_deg, dtype=float))
+    corners = [np.array(c) for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)] + [np.zeros(3)]
+    evals = 0
+    unstable: list[Scenario] = []
+
+    def evaluate(sc: Scenario) -> LoopPeaks:
+        lp = loop_peaks(plant_at(model, sc, inertia_p1, settings), gain, min_decay=min_decay, n_peaks=1)
+        if not lp.stable:
+            unstable.append(sc)
+        return lp
+
+    with _workers(workers) as pmap:
+        cands = [Scenario(*c, float(th)) for th in thetas for c in corners]
+        table = list(zip(cands, pmap(evaluate, cands)))
+        evals += len(cands)
+        value, worst, omega = {}, {}, {}
+        for group in GROUPS:
+            ranked = sorted(table, key=lambda t: -t[1].norm(group))
+            best = (ranked[0][1].norm(group), ranked[0][0], ranked[0][1].omega(group))
+            if not np.isfinite(best[0]):
+                value[group], worst[group], omega[group] = best
+                continue
+
+            def search(start: Scenario, group: str = group):
+                def neg(x):
+                    v = evaluate(Scenario.from_vector(x)).norm(group)
+                    return -v if np.isfinite(v) else -1e12
+
+                res = minimize(neg, start.vector(), method="Nelder-Mead", bounds=[(-1, 1)] * 3 + [(0, np.pi)],
+                               options=dict(maxfev=max_evals, initial_simplex=_simplex(start.vector()), xatol=1e-3, fatol=1e-6))
+                sc = Scenario.from_vector(res.x)
+                return sc, evaluate(sc), res.nfev + 1
+
+            for sc, lp, n in pmap(search, [t[0] for t in ranked[:refine]]):
+                evals += n
+                if lp.norm(group) > best[0]:
+                    best = (lp.norm(group), sc, lp.omega(group))
+            value[group], worst[group], omega[group] = best
+    return WorstCase(value, worst, omega, evals, unstable)
+
+
+def _simplex(x0: NDArray) -> NDArray:
+    """Initial simplex inside the box around a start point (steps 0.3 normalised, 10 deg)."""
+    steps = np.array([0.3, 0.3, 0.3, np.deg2rad(10.0)])
+    simplex = [x0]
+    for i in range(4):
+        x = x0.copy()
+        x[i] = x[i] - steps[i] if x[i] + steps[i] > (np.pi if i == 3 else 1.0) else x[i] + steps[i]
+        simplex.append(x)
+    return np.array(simplex)
+
+
+# ----------------------------------------------------------------------------- the synthesis
+@dataclass
+class SynthesisResult:
+    """Outcome of :func:`synthesize`.
+
+    Attributes
+    ----------
+    gain : ndarray (4, 8)
+        The PMA gain [N / (m/s^2) or N / (rad/s^2), through ``F_PMA``].
+    j_c, z_c : float
+        Worst-case ``||T_{p~->RPE}||_inf`` and ``||T_{p~->W~u}||_inf`` over the final scenario set and the
+        last worst-case search.
+    success : bool
+        Stable at every scenario, ``z_c < gamma_u``, and the optimiser converged.
+    message : str
+        Why it stopped (and what failed, if it did).
+    scenarios : list of Scenario
+        The final scenario set (grown by the worst-case searches).
+    worst : WorstCase
+        The last worst-case search.
+    iterations, time_s, evaluations : int, float, int
+    history : list of dict
+        Per accepted iteration: J, Z, trust radius, phase.
+    """
+
+    gain: NDArray[np.float64]
+    j_c: float
+    z_c: float
+    success: bool
+    message: str
+    scenarios: list[Scenario]
+    worst: WorstCase | None
+    iterations: int
+    time_s: float
+    evaluations: int
+    history: list[dict] = field(default_factory=list)
+
+
+@dataclass
+class _State:
+    gain: NDArray
+    peaks: list[LoopPeaks]
+
+    def value(self, group: str) -> float:
+        return max(p.norm(group) for p in self.peaks)
+
+    def stable(self) -> bool:
+        return all(p.stable for p in self.peaks)
+
+
+def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map) -> _State:
+    return _State(gain, list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay), plants)))
+
+
+def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[float, NDArray]]:
+    """Linearisations (value, gradient) of every peak of ``group`` above ``band`` times the current maximum."""
+    top = state.value(group)
+    rows = []
+    for plant, lp in zip(plants, state.peaks):
+        for val, w in lp.peaks[group]:
+            if val >= band * top:
+                v, g = peak_gradient(plant, state.gain, group, w)
+                rows.append((v, g.ravel()))
+    return rows
+
+
+def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, NDArray]], bound: float, radius: NDArray):
+    """Trust-region LP: ``min t`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound``, ``|d| <= radius``."""
+    n = radius.size
+    a_ub = [np.r_[g, -1.0] for _, g in objective] + [np.r_[h, 0.0] for _, h in constraints]
+    b_ub = [-f for f, _ in objective] + [bound - c for c, _ in constraints]
+    res = linprog(np.r_[np.zeros(n), 1.0], A_ub=np.array(a_ub), b_ub=np.array(b_ub),
+                  bounds=[(-r, r) for r in radius] + [(None, None)], method="highs")
+    return (res.x[:n], res.x[n]) if res.status == 0 else (None, None)
+
+
+def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
+               scenarios: Sequence[Scenario] | None = None, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
+               min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02, tol: float = 2e-3, radius0: float = 1.0,
+               workers: int | None = None, verbose: bool = False) -> SynthesisResult:
+    """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
+
+    Parameters
+    ----------
+    model : lib.lft.LFT
+        Uncertain open loop at one h, e.g. :func:`lib.spacecraft.reduced_uncertain_model`.
+    inertia_p1 : array_like (3, 3)
+        Rigid inertia at P1 for the ACS [kg m^2] (:func:`lib.spacecraft.inertia_at_p1`).
+    settings : LoopSettings, optional
+    gain0 : array_like (4, 8), optional
+        Starting gain; default all entries -1 (as the paper).
+    scenarios : sequence of Scenario, optional
+        Initial scenario set (default :func:`default_scenarios`).
+    max_iter : int
+        Trust-region iterations per round.
+    max_rounds : int
+        Rounds of (optimise on the set, search the box, add the worst scenarios).
+    search_thetas_deg : sequence of float, optional
+        Panel angles of the worst-case search grid [deg] (default 13 from 0 to 180).
+    min_decay : float
+        Stability margin on the closed-loop poles [1/s].
+    band : float
+        Peaks within this fraction of the maximum enter the local model.
+    margin : float
+        The linearised effort peaks are kept below ``gamma_u (1 - margin)``.
+    tol : float
+        Relative decrease of J below which the optimiser stops; also the relative tolerance with which
+        a searched worst case is accepted as covered by the set.
+    radius0 : float
+        Initial trust radius on each gain entry.
+    workers : int, optional
+        Threads evaluating the scenarios (default: up to 2); BLAS is limited to one thread each.
+    """
+    t0 = time.perf_counter()
+    settings = settings or LoopSettings.from_parameters()
+    gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
+    if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
+        raise ValueError(f"gain0 must be a finite 4x8 matrix, got shape {gain.shape}")
+    scen = list(default_scenarios() if scenarios is None else scenarios)
+    counter = {"iterations": 0, "evaluations": 0}
+    history: list[dict] = []
+    worst: WorstCase | None = None
+    message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
+    with _workers(workers) as pmap:
+        plants = list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen))
+        for round_ in range(max_rounds):
+            state = _evaluate(plants, gain, min_decay, pmap)
+            counter["evaluations"] += len(plants)
+            state = _stabilise(plants, state, min_decay, radius0, max_iter, pmap, counter, history)
+            if not state.stable():
+                message = "could not stabilise every scenario from the starting gain"
+                break
+            state = _optimise(plants, state, settings.gamma_u, min_decay, band, margin, tol, radius0, max_iter, pmap, counter,
+                              history, verbose)
+            gain = state.gain
+            worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers)
+            counter["evaluations"] += worst.evaluations
+            added = _uncovered(state, worst, settings.gamma_u, tol, margin)
+            if verbose:
+                print(f"round {round_}: {len(plants)} scenarios, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
+                      f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
+                      f"({time.perf_counter() - t0:.1f} s)")
+            if not added:
+                message = "converged: the worst-case search finds nothing worse than the scenario set"
+                break
+            scen += added
+            plants += list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), added))
+        final = _evaluate(plants, gain, min_decay, pmap)
+    j_c = max(final.value("rpe"), worst.value["rpe"] if worst else 0.0)
+    z_c = max(final.value("effort"), worst.value["effort"] if worst else 0.0)
+    stable = final.stable() and (worst is None or not worst.unstable)
+    success = message.startswith("converged") and stable and z_c < settings.gamma_u
+    if not success and message.startswith("converged"):
+        message = f"not a valid design: stable={stable}, Z_c={z_c:.4f} (bound {settings.gamma_u})"
+    return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, counter["iterations"], time.perf_counter() - t0,
+                           counter["evaluations"], history)
+
+
+def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin: float) -> list[Scenario]:
+    """Scenarios of the search that the set does not cover: unstable ones, and worse J or Z than the set's."""
+    added = worst.unstable[:1]
+    if worst.value["rpe"] > state.value("rpe") * (1 + tol):
+        added.append(worst.scenario["rpe"])
+    if worst.value["effort"] > max(state.value("effort") * (1 + tol), gamma * (1 - margin)):
+        added.append(worst.scenario["effort"])
+    return added
+
+
+def _stabilise(plants, state: _State, min_decay: float, radius0: float, max_iter: int, pmap, counter, history) -> _State:
+    """Push the spectral abscissa of every scenario below ``-min_decay`` (trust-region LP on eigenvalue gradients)."""
+    radius = radius0 * np.maximum(1.0, np.abs(state.gain.ravel()))
+    for _ in range(max_iter):
+        if state.stable() or np.all(radius < 1e-9):
+            break
+        counter["iterations"] += 1
+        rows = [(v, g.ravel()) for p in plants for v, g in _abscissa_gradient(p, state.gain)]
+        d, _ = _lp(rows, [], 0.0, radius)
+        if d is None:
+            radius = radius / 4
+            continue
+        trial = _evaluate(plants, state.gain + d.reshape(4, 8), min_decay, pmap)
+        counter["evaluations"] += len(plants)
+        if max(p.abscissa for p in trial.peaks) < max(p.abscissa for p in state.peaks):
+            state = trial
+            history.append(dict(phase="stabilise", abscissa=max(p.abscissa for p in trial.peaks)))
+        else:
+            radius = radius / 4
+    return state
+
+
+def _optimise(plants, state: _State, gamma: float, min_decay: float, band: float, margin: float, tol: float, radius0: float,
+              max_iter: int, pmap, counter, history, verbose: bool) -> _State:
+    """Feasibility (Z < gamma), then min J s.t. Z < gamma, by a trust-region sequential LP on the peaks."""
+    radius = radius0 * np.maximum(1.0, np.abs(state.gain.ravel()))
+    accepted: list[float] = []
+    for _ in range(max_iter):
+        counter["iterations"] += 1
+        j, z = state.value("rpe"), state.value("effort")
+        feasible = z < gamma
+        cons = _linearise(plants, state, "effort", band)
+        if feasible:
+            obj = _linearise(plants, state, "rpe", band)
+            d, t = _lp(obj, [c for c in cons if c[0] >= band * gamma], gamma * (1 - margin), radius)
+            current = j
+        else:
+            d, t = _lp(cons, [], 0.0, radius)
+            current = z
+        small = np.all(radius < 1e-7 * np.maximum(1.0, np.abs(state.gain.ravel())))
+        if d is None or current - t <= 1e-3 * tol * current:
+            if small:
+                break
+            radius = radius / 4
+            continue
+        trial = _evaluate(plants, state.gain + d.reshape(4, 8), min_decay, pmap)
+        counter["evaluations"] += len(plants)
+        new = trial.value("rpe") if feasible else trial.value("effort")
+        ok = trial.stable() and (trial.value("effort") < gamma if feasible else True)
+        ratio = (current - new) / (current - t) if ok else -1.0
+        if ok and ratio > 0.1:
+            state = trial
+            history.append(dict(phase="optimise" if feasible else "feasibility", J=trial.value("rpe"), Z=trial.value("effort"),
+                                radius=float(radius.max())))
+            if verbose:
+                print(f"  it {counter['iterations']}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
+            radius = radius * (2.0 if ratio > 0.75 else 1.0)
+            accepted = accepted + [new] if feasible else []
+            if len(accepted) > 5 and accepted[-6] - accepted[-1] < tol * accepted[-1]:
+                break  # less than tol relative decrease over the last 5 accepted steps
+        else:
+            if small:
+                break
+            radius = radius / 4
+    return state
