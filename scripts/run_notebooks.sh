@@ -21,6 +21,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
+# One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
+# process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).
+export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 extra=()
 if [ -n "$out" ]; then
   extra+=(-p figures_dir "$out/figures" -p results_dir "$out/results")

@@ -8,6 +8,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
+# One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
+# process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).
+export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
 rm -rf build/smoke && mkdir -p build/smoke
 for nb in notebooks/[0-9][0-9]_*.ipynb; do
