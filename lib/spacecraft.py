@@ -31,7 +31,7 @@ from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
 __all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
-           "reduced_uncertain_model", "scenario", "inertia_at_p1"]
+           "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
@@ -194,7 +194,8 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     truss_model = t_truss(section, tr["cube_side"], n_modes, h_param=tunable_h(p) if tunable else None).translate(origin)
 
     panels = {}
-    for label, turn in (("SP1", np.pi / 2), ("SP2", -np.pi / 2)):
+    for label in ("SP1", "SP2"):
+        turn = np.deg2rad(ch.get("panel_turn_z_deg", {"SP1": 90.0, "SP2": -90.0})[label])
         rot = frames.rot_z(turn) if uncertain else frames.rot_x(theta) @ frames.rot_z(turn)
         axis = frames.rot_z(turn).T @ np.array([1.0, 0.0, 0.0])  # spacecraft x in the panel frame
         node = sp["points"][label]
@@ -217,7 +218,7 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
 
     model = connect([hub_model, truss_model, panels["SP1"], panels["SP2"], antenna, pma_model], name="spacecraft")
     in_names = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
-    out_names = (["a_N20_Rx", "a_N20_Ry"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    out_names = ([f"a_{ant['node']}_Rx", f"a_{ant['node']}_Ry"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
                  + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
     lft = model.to_lft(in_names, out_names)
     nd = lft.n_delta
@@ -275,3 +276,45 @@ def inertia_at_p1(model: LFT) -> np.ndarray:
     oo = [OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
     dc = d[np.ix_(oo, ii)] - c[oo] @ np.linalg.solve(a, b[:, ii])
     return np.linalg.inv(dc)[3:, 3:]
+
+
+def with_choices(params: dict | None = None, sadm_stiffness: float | None = None, sadm_friction: float | None = None,
+                 truss_damping: float | None = None, antenna_node: str | None = None, panel_turn_z_deg: dict | None = None) -> dict:
+    """A copy of the parameters with some of the paper's unpublished choices changed (for sensitivity studies).
+
+    Parameters
+    ----------
+    sadm_stiffness, sadm_friction : float, optional
+        SADM joint stiffness [N m/rad] and viscous friction [N m s/rad].
+    truss_damping : float, optional
+        Modal damping ratio of the truss beams (paper: 0.001).
+    antenna_node : str, optional
+        ``"N20"`` (default, the top node) or ``"N17"`` (the PMA node below it); the LOS is measured there.
+    panel_turn_z_deg : dict, optional
+        ``{"SP1": deg, "SP2": deg}``: turn of each panel frame about z before the panel angle rotation about x
+        (default +90 / -90: the panels' long axes along the rotation axis; 0 / 0 is the literal ``R_x(theta)``).
+    """
+    import copy
+
+    p = copy.deepcopy(params or load_parameters())
+    ch = p["choices"]
+    if sadm_stiffness is not None:
+        ch["sadm_stiffness"] = _finite(sadm_stiffness, "sadm_stiffness", positive=True)
+    if sadm_friction is not None:
+        ch["sadm_friction"] = _finite(sadm_friction, "sadm_friction")
+        if ch["sadm_friction"] < 0:
+            raise ValueError(f"sadm_friction must be >= 0 [N m s/rad], got {sadm_friction!r}")
+    if truss_damping is not None:
+        damping = _finite(truss_damping, "truss_damping")
+        if not 0 <= damping < 1:
+            raise ValueError(f"truss_damping must be in [0, 1), got {truss_damping!r}")
+        p["truss"]["damping"] = damping
+    if antenna_node is not None:
+        if antenna_node not in ("N17", "N20"):
+            raise ValueError(f"antenna_node must be 'N17' or 'N20' (the truss ports), got {antenna_node!r}")
+        p["antenna"]["node"] = antenna_node
+    if panel_turn_z_deg is not None:
+        if set(panel_turn_z_deg) != {"SP1", "SP2"}:
+            raise ValueError(f"panel_turn_z_deg needs the keys 'SP1' and 'SP2', got {sorted(panel_turn_z_deg)}")
+        ch["panel_turn_z_deg"] = {k: _finite(v, f"panel_turn_z_deg[{k}]") for k, v in panel_turn_z_deg.items()}
+    return p

@@ -42,7 +42,7 @@ from .hinf import hinf_norm
 from .lft import LFT
 
 __all__ = ["Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
-           "plant_at", "default_scenarios", "exact_norms"]
+           "plant_at", "default_scenarios", "exact_norms", "sigma_curve"]
 
 GROUPS = ("rpe", "effort")
 
@@ -253,13 +253,13 @@ def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: f
     return float(s[0]), grad
 
 
-def _abscissa_gradient(plant: GeneralizedPlant, gain: NDArray, n: int = 3) -> list[tuple[float, NDArray]]:
-    """Real parts of the ``n`` rightmost closed-loop poles and their gradients with respect to K."""
+def _eigen_rows(plant: GeneralizedPlant, gain: NDArray, n: int = 6) -> list[tuple[float, NDArray]]:
+    """Real parts of the ``n`` least damped closed-loop poles (smallest ``-Re / |lambda|``; unstable first) and their
+    gradients with respect to K: ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w^H v = 1``."""
     nr, ne = plant.n_reg, plant.n_exo
     b_v, c_y = plant.b[:, ne:], plant.c[nr:, :]
-    a = plant.a + b_v @ gain @ c_y
-    lam, vr = np.linalg.eig(a)
-    order = np.argsort(lam.real)[::-1][:n]
+    lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
+    order = np.argsort(-lam.real / np.maximum(np.abs(lam), 1e-300))[:n]
     vl = np.linalg.inv(vr)  # rows: left eigenvectors with vl @ vr = I
     return [(float(lam[i].real), np.real(np.outer(vl[i] @ b_v, c_y @ vr[:, i]))) for i in order]
 
@@ -378,16 +378,24 @@ class SynthesisResult:
 class _State:
     gain: NDArray
     peaks: list[LoopPeaks]
+    extra: list[float] = field(default_factory=list)  # spectral abscissae of the stability-only plants
+    min_decay: float = 1e-7
 
     def value(self, group: str) -> float:
         return max(p.norm(group) for p in self.peaks)
 
     def stable(self) -> bool:
-        return all(p.stable for p in self.peaks)
+        return all(p.stable for p in self.peaks) and all(x < -self.min_decay for x in self.extra)
+
+    def abscissa(self) -> float:
+        return max([p.abscissa for p in self.peaks] + self.extra)
 
 
-def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map) -> _State:
-    return _State(gain, list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay), plants)))
+def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
+              checks: Sequence[GeneralizedPlant] = ()) -> _State:
+    peaks = list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay), plants))
+    extra = [float(np.linalg.eigvals(p.closed_loop(gain)[0]).real.max()) for p in checks]
+    return _State(gain, peaks, extra, min_decay)
 
 
 def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[float, NDArray]]:
@@ -402,26 +410,26 @@ def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[flo
     return rows
 
 
-def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, NDArray]], bound: float, radius: NDArray):
-    """Trust-region LP: ``min t`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound``, ``|d| <= radius``."""
+def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, NDArray, float]], radius: NDArray):
+    """Trust-region LP: ``min t`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound_k``, ``|d| <= radius``."""
     n = radius.size
-    a_ub = [np.r_[g, -1.0] for _, g in objective] + [np.r_[h, 0.0] for _, h in constraints]
-    b_ub = [-f for f, _ in objective] + [bound - c for c, _ in constraints]
+    a_ub = [np.r_[g, -1.0] for _, g in objective] + [np.r_[h.ravel(), 0.0] for _, h, _ in constraints]
+    b_ub = [-f for f, _ in objective] + [bound - c for c, _, bound in constraints]
     res = linprog(np.r_[np.zeros(n), 1.0], A_ub=np.array(a_ub), b_ub=np.array(b_ub),
                   bounds=[(-r, r) for r in radius] + [(None, None)], method="highs")
     return (res.x[:n], res.x[n]) if res.status == 0 else (None, None)
 
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
-               scenarios: Sequence[Scenario] | None = None, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
-               min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02, tol: float = 2e-3, radius0: float = 1.0,
-               workers: int | None = None, verbose: bool = False) -> SynthesisResult:
+               scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (), max_iter: int = 60,
+               max_rounds: int = 6, search_thetas_deg=None, min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
+               tol: float = 2e-3, radius0: float = 1.0, workers: int | None = None, verbose: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
 
     Parameters
     ----------
     model : lib.lft.LFT
-        Uncertain open loop at one h, e.g. :func:`lib.spacecraft.reduced_uncertain_model`.
+        Uncertain open loop at one h, e.g. :func:`lib.spacecraft.reduced_uncertain_model` (``G_r``).
     inertia_p1 : array_like (3, 3)
         Rigid inertia at P1 for the ACS [kg m^2] (:func:`lib.spacecraft.inertia_at_p1`).
     settings : LoopSettings, optional
@@ -429,6 +437,10 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         Starting gain; default all entries -1 (as the paper).
     scenarios : sequence of Scenario, optional
         Initial scenario set (default :func:`default_scenarios`).
+    stability_models : sequence of GeneralizedPlant
+        Plants whose closed-loop stability is a hard constraint but whose norms are not optimised: e.g. the
+        nominal ``G_r_low`` plant (all flexible modes), so that the gain does not destabilise the modes that
+        ``G_r`` residualises (spillover). Their least damped poles enter the local model as linear constraints.
     max_iter : int
         Trust-region iterations per round.
     max_rounds : int
@@ -455,43 +467,71 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
         raise ValueError(f"gain0 must be a finite 4x8 matrix, got shape {gain.shape}")
     scen = list(default_scenarios() if scenarios is None else scenarios)
-    counter = {"iterations": 0, "evaluations": 0}
-    history: list[dict] = []
     worst: WorstCase | None = None
     message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
     with _workers(workers) as pmap:
-        plants = list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen))
+        prob = _Problem(list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen)), list(stability_models), pmap,
+                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose)
         for round_ in range(max_rounds):
-            state = _evaluate(plants, gain, min_decay, pmap)
-            counter["evaluations"] += len(plants)
-            state = _stabilise(plants, state, min_decay, radius0, max_iter, pmap, counter, history)
+            state = _stabilise(prob, prob.evaluate(gain))
             if not state.stable():
                 message = "could not stabilise every scenario from the starting gain"
                 break
-            state = _optimise(plants, state, settings.gamma_u, min_decay, band, margin, tol, radius0, max_iter, pmap, counter,
-                              history, verbose)
+            state = _optimise(prob, state)
             gain = state.gain
             worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers)
-            counter["evaluations"] += worst.evaluations
+            prob.evaluations += worst.evaluations
             added = _uncovered(state, worst, settings.gamma_u, tol, margin)
             if verbose:
-                print(f"round {round_}: {len(plants)} scenarios, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
+                print(f"round {round_}: {len(prob.plants)} scenarios, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
                       f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
                       f"({time.perf_counter() - t0:.1f} s)")
             if not added:
                 message = "converged: the worst-case search finds nothing worse than the scenario set"
                 break
             scen += added
-            plants += list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), added))
-        final = _evaluate(plants, gain, min_decay, pmap)
+            prob.plants += list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), added))
+        final = prob.evaluate(gain)
     j_c = max(final.value("rpe"), worst.value["rpe"] if worst else 0.0)
     z_c = max(final.value("effort"), worst.value["effort"] if worst else 0.0)
     stable = final.stable() and (worst is None or not worst.unstable)
     success = message.startswith("converged") and stable and z_c < settings.gamma_u
     if not success and message.startswith("converged"):
         message = f"not a valid design: stable={stable}, Z_c={z_c:.4f} (bound {settings.gamma_u})"
-    return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, counter["iterations"], time.perf_counter() - t0,
-                           counter["evaluations"], history)
+    return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, prob.iterations, time.perf_counter() - t0,
+                           prob.evaluations, prob.history)
+
+
+@dataclass
+class _Problem:
+    """The data of one synthesis: scenario plants, stability-only plants, options and counters."""
+
+    plants: list[GeneralizedPlant]
+    checks: list[GeneralizedPlant]
+    pmap: Callable
+    min_decay: float
+    gamma: float
+    band: float
+    margin: float
+    tol: float
+    radius0: float
+    max_iter: int
+    verbose: bool
+    iterations: int = 0
+    evaluations: int = 0
+    history: list[dict] = field(default_factory=list)
+
+    def evaluate(self, gain: NDArray) -> _State:
+        self.evaluations += len(self.plants)
+        return _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks)
+
+    def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
+        """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
+        plants = (self.plants if all_plants else []) + self.checks
+        return [(v, g, -self.min_decay) for p in plants for v, g in _eigen_rows(p, state.gain)]
+
+    def radius(self, gain: NDArray) -> NDArray:
+        return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
 
 
 def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin: float) -> list[Scenario]:
@@ -504,72 +544,70 @@ def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin
     return added
 
 
-def _stabilise(plants, state: _State, min_decay: float, radius0: float, max_iter: int, pmap, counter, history) -> _State:
-    """Push the spectral abscissa of every scenario below ``-min_decay`` (trust-region LP on eigenvalue gradients)."""
-    radius = radius0 * np.maximum(1.0, np.abs(state.gain.ravel()))
-    for _ in range(max_iter):
+def _stabilise(prob: _Problem, state: _State) -> _State:
+    """Push the spectral abscissa of every plant below ``-min_decay`` (trust-region LP on eigenvalue gradients)."""
+    radius = prob.radius(state.gain)
+    for _ in range(prob.max_iter):
         if state.stable() or np.all(radius < 1e-9):
             break
-        counter["iterations"] += 1
-        rows = [(v, g.ravel()) for p in plants for v, g in _abscissa_gradient(p, state.gain)]
-        d, _ = _lp(rows, [], 0.0, radius)
+        prob.iterations += 1
+        rows = [(v, g.ravel()) for v, g, _ in prob.stability_rows(state, all_plants=True)]
+        d, _ = _lp(rows, [], radius)
         if d is None:
             radius = radius / 4
             continue
-        trial = _evaluate(plants, state.gain + d.reshape(4, 8), min_decay, pmap)
-        counter["evaluations"] += len(plants)
-        if max(p.abscissa for p in trial.peaks) < max(p.abscissa for p in state.peaks):
+        trial = prob.evaluate(state.gain + d.reshape(4, 8))
+        if trial.abscissa() < state.abscissa():
             state = trial
-            history.append(dict(phase="stabilise", abscissa=max(p.abscissa for p in trial.peaks)))
+            prob.history.append(dict(phase="stabilise", abscissa=trial.abscissa()))
         else:
             radius = radius / 4
     return state
 
 
-def _optimise(plants, state: _State, gamma: float, min_decay: float, band: float, margin: float, tol: float, radius0: float,
-              max_iter: int, pmap, counter, history, verbose: bool) -> _State:
-    """Feasibility (Z < gamma), then min J s.t. Z < gamma, by a trust-region sequential LP on the peaks."""
-    radius = radius0 * np.maximum(1.0, np.abs(state.gain.ravel()))
+def _optimise(prob: _Problem, state: _State) -> _State:
+    """Feasibility (Z < gamma), then min J s.t. Z < gamma and stability, by a trust-region sequential LP on the peaks."""
+    radius = prob.radius(state.gain)
     accepted: list[float] = []
-    for _ in range(max_iter):
-        counter["iterations"] += 1
-        j, z = state.value("rpe"), state.value("effort")
-        feasible = z < gamma
-        cons = _linearise(plants, state, "effort", band)
+    gamma = prob.gamma
+    for _ in range(prob.max_iter):
+        prob.iterations += 1
+        feasible = state.value("effort") < gamma
+        cons = _linearise(prob.plants, state, "effort", prob.band)
+        stab = prob.stability_rows(state, all_plants=False)
         if feasible:
-            obj = _linearise(plants, state, "rpe", band)
-            d, t = _lp(obj, [c for c in cons if c[0] >= band * gamma], gamma * (1 - margin), radius)
-            current = j
+            obj = _linearise(prob.plants, state, "rpe", prob.band)
+            bound = gamma * (1 - prob.margin)
+            d, t = _lp(obj, [(c, h, bound) for c, h in cons if c >= prob.band * gamma] + stab, radius)
+            current = state.value("rpe")
         else:
-            d, t = _lp(cons, [], 0.0, radius)
-            current = z
+            d, t = _lp(cons, stab, radius)
+            current = state.value("effort")
         small = np.all(radius < 1e-7 * np.maximum(1.0, np.abs(state.gain.ravel())))
-        if d is None or current - t <= 1e-3 * tol * current:
+        if d is None or current - t <= 1e-3 * prob.tol * current:
             if small:
                 break
             radius = radius / 4
             continue
-        trial = _evaluate(plants, state.gain + d.reshape(4, 8), min_decay, pmap)
-        counter["evaluations"] += len(plants)
+        trial = prob.evaluate(state.gain + d.reshape(4, 8))
         new = trial.value("rpe") if feasible else trial.value("effort")
         ok = trial.stable() and (trial.value("effort") < gamma if feasible else True)
         ratio = (current - new) / (current - t) if ok else -1.0
         if ok and ratio > 0.1:
             state = trial
-            history.append(dict(phase="optimise" if feasible else "feasibility", J=trial.value("rpe"), Z=trial.value("effort"),
-                                radius=float(radius.max())))
-            if verbose:
-                print(f"  it {counter['iterations']}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
+            prob.history.append(dict(phase="optimise" if feasible else "feasibility", J=trial.value("rpe"), Z=trial.value("effort"),
+                                     radius=float(radius.max())))
+            if prob.verbose:
+                print(f"  it {prob.iterations}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
             radius = radius * (2.0 if ratio > 0.75 else 1.0)
             accepted = accepted + [new] if feasible else []
-            if len(accepted) > 5 and accepted[-6] - accepted[-1] < tol * accepted[-1]:
+            if len(accepted) > 5 and accepted[-6] - accepted[-1] < prob.tol * accepted[-1]:
                 break  # less than tol relative decrease over the last 5 accepted steps
         else:
             if small:
                 break
             radius = radius / 4
     return state
-
 
 def exact_norms(plant: GeneralizedPlant, gain: ArrayLike, rtol: float = 1e-7) -> dict[str, tuple[float, float, bool]]:
     """Certified H-infinity norms of both transfers (Hamiltonian method, :func:`lib.hinf.hinf_norm`).
@@ -585,3 +623,18 @@ def exact_norms(plant: GeneralizedPlant, gain: ArrayLike, rtol: float = 1e-7) ->
             r = hinf_norm(a, b[:, sl["p"]], c[sl[group]], d[sl[group], sl["p"]], rtol=rtol)
             out[group] = (r.norm, r.omega, r.certified)
     return out
+
+
+def sigma_curve(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega_range: tuple[float, float] = (1e-2, 3e3),
+                n_log: int = 400) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Largest singular value of ``T_{p~ -> group}`` on a peak-aware grid [rad/s] (for figures).
+
+    Returns ``(omega, sigma)``; the grid holds the log points and points around every lightly damped pole.
+    """
+    from .hinf import peak_grid, sigma_max
+
+    a, b, c, d = plant.closed_loop(gain)
+    sl = plant.slices()
+    w = peak_grid(a, omega_range[0], omega_range[1], n_log=n_log)
+    with threadpool_limits(1):
+        return w, sigma_max(a, b[:, sl["p"]], c[sl[group]], d[sl[group], sl["p"]], w)

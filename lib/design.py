@@ -1,0 +1,99 @@
+"""One robust design at a section side h: models, open-loop worst case, synthesis with a spillover check.
+
+Paper: "Co-design optimization architecture", Steps 1-3 for one particle: the reduced uncertain open loop
+``F_u(G_r(h), Delta)`` (Step 1), the closed loop with the ACS designed on the rigid inertia at h (Step 2) and
+the robust structured synthesis of ``K_PMA`` (Step 3, :func:`lib.synthesis.synthesize`).
+
+One addition to the paper's recipe, measured in notebook 06: a gain tuned on ``G_r`` (modes below 500 rad/s)
+alone destabilises modes of ``G_r_low`` between 500 and 7000 rad/s (spillover of the non-collocated entries
+of the 4x8 gain). The nominal ``G_r_low`` closed loop is therefore a stability-only model of the synthesis
+(``spillover=True``), and the design is then analysed on ``G_r_low`` over the whole box (notebook 08).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import reduction, spacecraft
+from .closedloop import LoopSettings
+from .lft import LFT
+from .synthesis import Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
+
+__all__ = ["DesignModels", "models_at", "open_loop_worst_case", "robust_design"]
+
+
+@dataclass
+class DesignModels:
+    """The models of one design point.
+
+    Attributes
+    ----------
+    h : float
+        Section side [m].
+    g_r, g_r_low : lib.lft.LFT
+        ``F_u(G_r(h), Delta)`` (modes up to ``omega_max``) and ``F_u(G_r_low(h), Delta)`` (all flexible modes).
+    inertia : ndarray (3, 3)
+        Rigid inertia of the spacecraft at P1 at nominal parameters [kg m^2] (ACS design).
+    truss_mass : float
+        T-truss mass [kg]: ``rho h^2`` times the total beam length.
+    build_time_s : float
+        Time to build and reduce the models [s].
+    """
+
+    h: float
+    g_r: LFT
+    g_r_low: LFT
+    inertia: NDArray[np.float64]
+    truss_mass: float
+    build_time_s: float
+
+
+def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, omega_min: float = 0.01) -> DesignModels:
+    """Build ``G_r`` and ``G_r_low`` at section side h [m] (one assembly, one slow-pole split).
+
+    Raises
+    ------
+    ValueError
+        For h outside the design range of the parameters (paper: [0.015, 0.03] m).
+    """
+    t0 = time.perf_counter()
+    p = params or spacecraft.load_parameters()
+    low_h, high_h = p["truss"]["h_range"]
+    if not (isinstance(h, (int, float, np.floating)) and low_h - 1e-12 <= h <= high_h + 1e-12):
+        raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
+    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).lft.grouped()
+    low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min)
+    g_low = LFT(*low.reduced, lft.blocks, lft.params)
+    red = reduction.modal_reduction(*low.reduced, omega_min=omega_min, omega_max=omega_max)
+    g_r = LFT(*red.reduced, lft.blocks, lft.params)
+    return DesignModels(float(h), g_r, g_low, spacecraft.inertia_at_p1(g_r), spacecraft.truss_mass(float(h), p),
+                        time.perf_counter() - t0)
+
+
+def open_loop_worst_case(models: DesignModels, settings: LoopSettings | None = None, **kwargs) -> WorstCase:
+    """Worst case over the box with ``K_PMA = 0`` (the PMAs passive): the reference for the robust J_c."""
+    return worst_case(models.g_r, np.zeros((4, 8)), models.inertia, settings or LoopSettings.from_parameters(), **kwargs)
+
+
+def robust_design(models: DesignModels, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
+                  spillover: bool = True, **kwargs) -> SynthesisResult:
+    """Robust structured synthesis of ``K_PMA`` at the design point (:func:`lib.synthesis.synthesize` on ``G_r``).
+
+    Parameters
+    ----------
+    models : DesignModels
+    settings : LoopSettings, optional
+    gain0 : array_like (4, 8), optional
+        Starting gain (default: all -1, as the paper; or the gain of a neighbouring design).
+    spillover : bool
+        Add the nominal ``G_r_low`` closed loop as a stability-only model (see the module docstring).
+    **kwargs
+        Passed to :func:`lib.synthesis.synthesize`.
+    """
+    settings = settings or LoopSettings.from_parameters()
+    checks = [plant_at(models.g_r_low, Scenario(), models.inertia, settings)] if spillover else []
+    return synthesize(models.g_r, models.inertia, settings, gain0=gain0, stability_models=checks, **kwargs)

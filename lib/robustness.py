@@ -1,0 +1,163 @@
+"""Worst-case pointing analysis of a design: mu upper and lower bounds over the panel angle (the ``wcgain`` step).
+
+Paper: section "Worst-case pointing analysis". For each of ``N_tau`` panel angles ``theta_i = 4 atan(tau_i)``
+the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexible modes kept) keeps its
+``Delta_p = diag(delta_M I_3, delta_Iyy, delta_w1 I_4)`` channels open, and the worst-case gain of
+``p~ -> RPE`` and ``p~ -> W~u`` over the unit box of ``Delta_p`` is bracketed by
+
+* an **upper bound**: the D-G scaling LMI of :func:`lib.mu.wc_gain_upper` at each frequency of a grid that
+  follows the peaks (the log points and the lightly damped closed-loop poles at nominal, restricted to where the
+  sampled worst-case gain is within ``focus`` of its maximum, plus the lower bound's critical frequency);
+* a **lower bound**: an achieved gain at a worst-case parameter set and frequency (:func:`lib.mu.wc_gain_lower`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from threadpoolctl import threadpool_limits
+
+from .closedloop import LoopSettings
+from .lft import LFT
+from .mu import lft_upper, wc_gain_lower, wc_gain_upper
+from .synthesis import Scenario, plant_at
+
+__all__ = ["KEEP", "ModalResponse", "AngleBounds", "bounds_at_angle", "physical_deltas"]
+
+KEEP = ("Iyy_SC", "M_SC", "omega1_SP")  # the parameters of Delta_p, in the grouped channel order
+
+
+class ModalResponse:
+    """``w -> C (jwI - A)^-1 B + D`` through one eigen-decomposition, checked against a direct solve.
+
+    Raises
+    ------
+    ValueError
+        If the modal and direct responses differ by more than ``rtol`` at the check frequencies
+        (defective or ill-conditioned eigenvectors).
+    """
+
+    def __init__(self, a: NDArray, b: NDArray, c: NDArray, d: NDArray, check: Sequence[float] = (1.0, 97.0), rtol: float = 1e-7):
+        self.lam, vec = np.linalg.eig(a)
+        self.cv, self.vb, self.d = c @ vec, np.linalg.solve(vec, b), d
+        for w in check:
+            ref = d + c @ np.linalg.solve(1j * w * np.eye(a.shape[0]) - a, b)
+            err = np.abs(self(w) - ref).max() / max(np.abs(ref).max(), 1e-300)
+            if err > rtol:
+                raise ValueError(f"modal response differs from a direct solve by {err:.1e} at {w} rad/s")
+
+    def __call__(self, w: float) -> NDArray[np.complex128]:
+        return (self.cv / (1j * w - self.lam)) @ self.vb + self.d
+
+
+@dataclass
+class AngleBounds:
+    """Bounds on the worst-case gain at one panel angle, for one transfer.
+
+    Attributes
+    ----------
+    theta_deg : float
+        Panel angle [deg].
+    upper, lower : float
+        Upper bound (max over the evaluated frequencies) and achieved lower bound.
+    omega_upper, omega_lower : float
+        Frequencies of the two [rad/s].
+    deltas : dict
+        Normalised worst-case parameters of the lower bound (``Iyy_SC``, ``M_SC``, ``omega1_SP``).
+    n_upper : int
+        Frequencies at which the LMI was solved.
+    statuses : list of str
+        Solver statuses (``optimal`` or the reason a bound is infinite).
+    omegas, betas : ndarray
+        The evaluated frequencies [rad/s] and upper bounds.
+    """
+
+    theta_deg: float
+    upper: float
+    lower: float
+    omega_upper: float
+    omega_lower: float
+    deltas: dict[str, float]
+    n_upper: int
+    statuses: list[str] = field(default_factory=list)
+    omegas: NDArray = field(default_factory=lambda: np.zeros(0))
+    betas: NDArray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def gap(self) -> float:
+        """Relative gap ``upper / lower - 1``."""
+        return self.upper / self.lower - 1.0
+
+
+def physical_deltas(model: LFT, deltas: dict[str, float]) -> dict[str, float]:
+    """Physical values of normalised worst-case parameters (hub mass [kg], Iyy [kg m^2], omega1 [rad/s])."""
+    return {name: model.params[name].from_delta(v) for name, v in deltas.items()}
+
+
+def _grid(lam: NDArray, omega_range: tuple[float, float], n_log: int) -> NDArray:
+    wn = np.abs(lam)
+    zeta = -lam.real / np.maximum(wn, 1e-300)
+    wd = np.abs(lam.imag)
+    lo, hi = omega_range
+    sel = (zeta < 0.3) & (wd > lo) & (wd < hi)
+    return np.unique(np.r_[np.geomspace(lo, hi, n_log), wd[sel], (wd * (1 - zeta))[sel], (wd * (1 + zeta))[sel]])
+
+
+def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings,
+                    groups: Sequence[str] = ("rpe", "effort"), omega_range: tuple[float, float] = (1e-2, 2e3), n_log: int = 150,
+                    focus: float = 0.7, max_upper: int = 40, seed: int = 0) -> dict[str, AngleBounds]:
+    """Upper and lower bounds of the worst-case gain over ``Delta_p`` at one panel angle ``theta`` [rad].
+
+    Parameters
+    ----------
+    model_low : lib.lft.LFT
+        Uncertain open loop without spurious slow poles (``G_r_low``: :func:`lib.spacecraft.reduced_uncertain_model`
+        with ``omega_max=None``).
+    theta : float
+        Panel angle [rad].
+    gain : array_like (4, 8)
+        The PMA gain.
+    inertia_p1 : array_like (3, 3)
+        ACS inertia [kg m^2].
+    settings : LoopSettings
+    groups : sequence of str
+        Transfers analysed: ``"rpe"`` (p~ -> RPE) and/or ``"effort"`` (p~ -> W~u).
+    omega_range, n_log : tuple, int
+        Frequency range [rad/s] and log points of the grid (plus the lightly damped poles).
+    focus : float
+        The upper bound is evaluated where the sampled worst-case gain exceeds ``focus`` times its maximum
+        (at most ``max_upper`` frequencies, the largest first), and at the lower bound's frequency.
+    seed : int
+        Seed of the random candidates of the lower bound.
+    """
+    plant = plant_at(model_low, Scenario(theta=float(theta)), inertia_p1, settings, keep=KEEP)
+    structure = LFT(np.zeros((0, 0)), np.zeros((0, plant.n_delta)), np.zeros((plant.n_delta, 0)), np.zeros((plant.n_delta,) * 2),
+                    [b for b in model_low.blocks if b in KEEP], model_low.params).delta_structure()
+    names = [name for name, _ in structure]
+    a, b, c, d = plant.closed_loop(gain)
+    if np.linalg.eigvals(a).real.max() >= 0:
+        raise ValueError(f"the closed loop is unstable at nominal parameters and theta = {np.rad2deg(theta):.2f} deg")
+    sl = plant.slices()
+    out = {}
+    with threadpool_limits(1):
+        for group in groups:
+            rows = list(range(plant.n_delta)) + list(range(plant.n_reg))[sl[group]]
+            resp = ModalResponse(a, b, c[rows], d[rows])
+            grid = _grid(resp.lam, omega_range, n_log)
+            lower = wc_gain_lower(resp, structure, grid, rng=seed)
+            # sampled worst case per frequency (corners, nominal) to focus the upper bound
+            corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * len(structure), indexing="ij")).reshape(len(structure), -1).T
+            cand = np.vstack([np.zeros(len(structure)), corners])
+            sampled = np.array([np.linalg.norm(lft_upper(resp(w), structure, cand), 2, axis=(1, 2)).max() for w in grid])
+            order = np.argsort(-sampled)
+            pick = [i for i in order[:max_upper] if sampled[i] >= focus * sampled[order[0]]]
+            freqs = np.unique(np.r_[grid[pick], lower.omega])
+            ups = [wc_gain_upper(resp(w), structure) for w in freqs]
+            betas = np.array([u.beta for u in ups])
+            k = int(np.argmax(betas))
+            out[group] = AngleBounds(float(np.rad2deg(theta)), float(betas[k]), lower.gain, float(freqs[k]), lower.omega,
+                                     dict(zip(names, map(float, lower.deltas))), len(freqs), [u.status for u in ups], freqs, betas)
+    return out
