@@ -106,6 +106,15 @@ def _grid(lam: NDArray, omega_range: tuple[float, float], n_log: int) -> NDArray
     return np.unique(np.r_[np.geomspace(lo, hi, n_log), wd[sel], (wd * (1 - zeta))[sel], (wd * (1 + zeta))[sel]])
 
 
+def _upper(m: NDArray, structure) -> object:
+    """:func:`lib.mu.wc_gain_upper` with Clarabel, retried with SCS if the first solver fails (reported in the status)."""
+    first = wc_gain_upper(m, structure)
+    if np.isfinite(first.beta):
+        return first
+    second = wc_gain_upper(m, structure, solver="SCS")
+    return second if np.isfinite(second.beta) else first
+
+
 def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings,
                     groups: Sequence[str] = ("rpe", "effort"), omega_range: tuple[float, float] = (1e-2, 2e3), n_log: int = 150,
                     focus: float = 0.7, max_upper: int = 40, seed: int = 0) -> dict[str, AngleBounds]:
@@ -155,9 +164,21 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
             order = np.argsort(-sampled)
             pick = [i for i in order[:max_upper] if sampled[i] >= focus * sampled[order[0]]]
             freqs = np.unique(np.r_[grid[pick], lower.omega])
-            ups = [wc_gain_upper(resp(w), structure) for w in freqs]
+            ups = [_upper(resp(w), structure) for w in freqs]
             betas = np.array([u.beta for u in ups])
             k = int(np.argmax(betas))
+            # second pass of the lower bound around the upper bound's frequency: the worst Delta moves a lightly damped
+            # mode onto that frequency, a narrow ridge in (delta, w) that the first pass may have missed
+            near = wc_gain_lower(resp, structure, freqs[k] * np.linspace(1 - 1e-3, 1 + 1e-3, 21), n_starts=12, n_random=512,
+                                 rng=seed + 1)
+            if near.gain > lower.gain:
+                lower = near
+                if not np.any(np.isclose(freqs, near.omega, rtol=1e-12, atol=0)):  # the upper bound at the new frequency too
+                    freqs, ups = np.r_[freqs, near.omega], ups + [_upper(resp(near.omega), structure)]
+                    order = np.argsort(freqs)
+                    freqs, ups = freqs[order], [ups[i] for i in order]
+                    betas = np.array([u.beta for u in ups])
+                    k = int(np.argmax(betas))
             out[group] = AngleBounds(float(np.rad2deg(theta)), float(betas[k]), lower.gain, float(freqs[k]), lower.omega,
                                      dict(zip(names, map(float, lower.deltas))), len(freqs), [u.status for u in ups], freqs, betas)
     return out

@@ -253,15 +253,30 @@ def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: f
     return float(s[0]), grad
 
 
-def _eigen_rows(plant: GeneralizedPlant, gain: NDArray, n: int = 6) -> list[tuple[float, NDArray]]:
-    """Real parts of the ``n`` least damped closed-loop poles (smallest ``-Re / |lambda|``; unstable first) and their
-    gradients with respect to K: ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w^H v = 1``."""
+def _required(lam: NDArray, min_damping: float, omega_check: float) -> NDArray:
+    """``Re lambda + zeta_req |lambda|`` with ``zeta_req = min_damping`` above ``omega_check`` [rad/s], else 0 (<= 0 is met)."""
+    return lam.real + np.where(np.abs(lam) > omega_check, min_damping, 0.0) * np.abs(lam)
+
+
+def _eigen_rows(plant: GeneralizedPlant, gain: NDArray, n: int = 6, min_damping: float = 0.0,
+                omega_check: float = 0.0) -> list[tuple[float, NDArray]]:
+    """Stability (and damping) margins of the ``n`` closed-loop poles closest to violating them, with gradients in K.
+
+    Value ``Re lambda + zeta_req |lambda|`` (see :func:`_required`; ``|lambda|`` held fixed in the gradient):
+    ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w^H v = 1``.
+    """
     nr, ne = plant.n_reg, plant.n_exo
     b_v, c_y = plant.b[:, ne:], plant.c[nr:, :]
     lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
-    order = np.argsort(-lam.real / np.maximum(np.abs(lam), 1e-300))[:n]
+    value = _required(lam, min_damping, omega_check)
+    order = np.argsort(-value / np.maximum(np.abs(lam), 1e-300))[:n]
     vl = np.linalg.inv(vr)  # rows: left eigenvectors with vl @ vr = I
-    return [(float(lam[i].real), np.real(np.outer(vl[i] @ b_v, c_y @ vr[:, i]))) for i in order]
+    return [(float(value[i]), np.real(np.outer(vl[i] @ b_v, c_y @ vr[:, i]))) for i in order]
+
+
+def _damping_margin(plant: GeneralizedPlant, gain: NDArray, min_damping: float, omega_check: float) -> float:
+    """Largest ``Re lambda + zeta_req |lambda|`` over the closed-loop poles (< 0: stable, and damped as required)."""
+    return float(np.max(_required(np.linalg.eigvals(plant.closed_loop(gain)[0]), min_damping, omega_check)))
 
 
 # ----------------------------------------------------------------------------- worst case over the box
@@ -392,10 +407,11 @@ class _State:
 
 
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
-              checks: Sequence[GeneralizedPlant] = ()) -> _State:
-    peaks = list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay), plants))
-    extra = [float(np.linalg.eigvals(p.closed_loop(gain)[0]).real.max()) for p in checks]
-    return _State(gain, peaks, extra, min_decay)
+              checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0) -> _State:
+    jobs = [("peaks", p) for p in plants] + [("check", p) for p in checks]
+    out = list(pmap(lambda job: loop_peaks(job[1], gain, min_decay=min_decay) if job[0] == "peaks"
+                    else _damping_margin(job[1], gain, min_damping, omega_check), jobs))
+    return _State(gain, out[: len(plants)], out[len(plants):], min_decay)
 
 
 def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[float, NDArray]]:
@@ -421,7 +437,8 @@ def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, N
 
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
-               scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (), max_iter: int = 60,
+               scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
+               min_damping: float = 5e-4, omega_check: float = 500.0, max_iter: int = 60,
                max_rounds: int = 6, search_thetas_deg=None, min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, radius0: float = 1.0, workers: int | None = None, verbose: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
@@ -441,6 +458,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         Plants whose closed-loop stability is a hard constraint but whose norms are not optimised: e.g. the
         nominal ``G_r_low`` plant (all flexible modes), so that the gain does not destabilise the modes that
         ``G_r`` residualises (spillover). Their least damped poles enter the local model as linear constraints.
+    min_damping, omega_check : float
+        Damping ratio that every pole of the stability models above ``omega_check`` [rad/s] (the modes ``G_r``
+        residualises) must keep (default 5e-4, half the truss damping; they have at least 7e-4 with the PMAs
+        passive). A margin: left on the stability boundary, these modes would be pushed across by the uncertain
+        parameters. Below ``omega_check`` the stability models need only be stable.
     max_iter : int
         Trust-region iterations per round.
     max_rounds : int
@@ -471,7 +493,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
     with _workers(workers) as pmap:
         prob = _Problem(list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen)), list(stability_models), pmap,
-                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose)
+                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check)
         for round_ in range(max_rounds):
             state = _stabilise(prob, prob.evaluate(gain))
             if not state.stable():
@@ -517,18 +539,20 @@ class _Problem:
     radius0: float
     max_iter: int
     verbose: bool
+    min_damping: float = 0.0
+    omega_check: float = 0.0
     iterations: int = 0
     evaluations: int = 0
     history: list[dict] = field(default_factory=list)
 
     def evaluate(self, gain: NDArray) -> _State:
         self.evaluations += len(self.plants)
-        return _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks)
+        return _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check)
 
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
         """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
-        plants = (self.plants if all_plants else []) + self.checks
-        return [(v, g, -self.min_decay) for p in plants for v, g in _eigen_rows(p, state.gain)]
+        rows = [(v, g, -self.min_decay) for p in (self.plants if all_plants else []) for v, g in _eigen_rows(p, state.gain)]
+        return rows + [(v, g, -self.min_decay) for p in self.checks for v, g in _eigen_rows(p, state.gain, 8, self.min_damping, self.omega_check)]
 
     def radius(self, gain: NDArray) -> NDArray:
         return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
