@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import linalg
 from scipy.optimize import linprog, minimize
 from threadpoolctl import threadpool_limits
 
@@ -253,30 +254,39 @@ def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: f
     return float(s[0]), grad
 
 
-def _required(lam: NDArray, min_damping: float, omega_check: float) -> NDArray:
-    """``Re lambda + zeta_req |lambda|`` with ``zeta_req = min_damping`` above ``omega_check`` [rad/s], else 0 (<= 0 is met)."""
-    return lam.real + np.where(np.abs(lam) > omega_check, min_damping, 0.0) * np.abs(lam)
+@dataclass
+class _Eigen:
+    """Closed-loop eigen-decomposition of one plant, with its margin ``max(Re lambda + zeta_req |lambda|)``."""
+
+    lam: NDArray
+    vr: NDArray
+    value: NDArray
+    b_v: NDArray
+    c_y: NDArray
+
+    @property
+    def margin(self) -> float:
+        return float(self.value.max())
+
+    def rows(self, n: int) -> list[tuple[float, NDArray]]:
+        """Margins of the ``n`` poles closest to violating theirs, with gradients in K (``|lambda|`` held fixed):
+        ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w`` with ``w^H v = 1``."""
+        order = np.argsort(-self.value / np.maximum(np.abs(self.lam), 1e-300))[:n]
+        lu = linalg.lu_factor(self.vr.T)  # left eigenvectors: rows of V^-1, i.e. solutions of V^T x = e_i
+        e = np.zeros((self.vr.shape[0], order.size))
+        e[order, np.arange(order.size)] = 1.0
+        vl = linalg.lu_solve(lu, e).T
+        return [(float(self.value[i]), np.real(np.outer(vl[k] @ self.b_v, self.c_y @ self.vr[:, i]))) for k, i in enumerate(order)]
 
 
-def _eigen_rows(plant: GeneralizedPlant, gain: NDArray, n: int = 6, min_damping: float = 0.0,
-                omega_check: float = 0.0) -> list[tuple[float, NDArray]]:
-    """Stability (and damping) margins of the ``n`` closed-loop poles closest to violating them, with gradients in K.
-
-    Value ``Re lambda + zeta_req |lambda|`` (see :func:`_required`; ``|lambda|`` held fixed in the gradient):
-    ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w^H v = 1``.
-    """
+def _eigen(plant: GeneralizedPlant, gain: NDArray, min_damping: float = 0.0, omega_check: float = 0.0) -> _Eigen:
+    """Eigen-decomposition of the closed loop; ``value = Re lambda + zeta_req |lambda|`` with ``zeta_req = min_damping``
+    above ``omega_check`` [rad/s], else 0 (every value < 0: stable, and damped as required)."""
     nr, ne = plant.n_reg, plant.n_exo
     b_v, c_y = plant.b[:, ne:], plant.c[nr:, :]
     lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
-    value = _required(lam, min_damping, omega_check)
-    order = np.argsort(-value / np.maximum(np.abs(lam), 1e-300))[:n]
-    vl = np.linalg.inv(vr)  # rows: left eigenvectors with vl @ vr = I
-    return [(float(value[i]), np.real(np.outer(vl[i] @ b_v, c_y @ vr[:, i]))) for i in order]
-
-
-def _damping_margin(plant: GeneralizedPlant, gain: NDArray, min_damping: float, omega_check: float) -> float:
-    """Largest ``Re lambda + zeta_req |lambda|`` over the closed-loop poles (< 0: stable, and damped as required)."""
-    return float(np.max(_required(np.linalg.eigvals(plant.closed_loop(gain)[0]), min_damping, omega_check)))
+    value = lam.real + np.where(np.abs(lam) > omega_check, min_damping, 0.0) * np.abs(lam)
+    return _Eigen(lam, vr, value, b_v, c_y)
 
 
 # ----------------------------------------------------------------------------- worst case over the box
@@ -393,24 +403,24 @@ class SynthesisResult:
 class _State:
     gain: NDArray
     peaks: list[LoopPeaks]
-    extra: list[float] = field(default_factory=list)  # spectral abscissae of the stability-only plants
+    extra: list[_Eigen] = field(default_factory=list)  # closed-loop eigenstructure of the stability-only plants
     min_decay: float = 1e-7
 
     def value(self, group: str) -> float:
         return max(p.norm(group) for p in self.peaks)
 
     def stable(self) -> bool:
-        return all(p.stable for p in self.peaks) and all(x < -self.min_decay for x in self.extra)
+        return all(p.stable for p in self.peaks) and all(x.margin < -self.min_decay for x in self.extra)
 
     def abscissa(self) -> float:
-        return max([p.abscissa for p in self.peaks] + self.extra)
+        return max([p.abscissa for p in self.peaks] + [x.margin for x in self.extra])
 
 
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0) -> _State:
     jobs = [("peaks", p) for p in plants] + [("check", p) for p in checks]
     out = list(pmap(lambda job: loop_peaks(job[1], gain, min_decay=min_decay) if job[0] == "peaks"
-                    else _damping_margin(job[1], gain, min_damping, omega_check), jobs))
+                    else _eigen(job[1], gain, min_damping, omega_check), jobs))
     return _State(gain, out[: len(plants)], out[len(plants):], min_decay)
 
 
@@ -551,8 +561,8 @@ class _Problem:
 
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
         """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
-        rows = [(v, g, -self.min_decay) for p in (self.plants if all_plants else []) for v, g in _eigen_rows(p, state.gain)]
-        return rows + [(v, g, -self.min_decay) for p in self.checks for v, g in _eigen_rows(p, state.gain, 8, self.min_damping, self.omega_check)]
+        rows = [(v, g, -self.min_decay) for p in (self.plants if all_plants else []) for v, g in _eigen(p, state.gain).rows(6)]
+        return rows + [(v, g, -self.min_decay) for x in state.extra for v, g in x.rows(8)]
 
     def radius(self, gain: NDArray) -> NDArray:
         return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
