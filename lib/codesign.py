@@ -1,0 +1,163 @@
+"""Structure/control co-design over the beam section side h: the nested objective, evaluated in parallel.
+
+Paper: "Co-design optimization architecture" (Steps 1-4) and "Co-design optimization results". For a particle
+h: build the reduced uncertain model (Step 1), close the loop with the ACS of that h (Step 2), tune ``K_PMA``
+by the robust synthesis warm-started from the previous iteration's best particle (Step 3), and evaluate
+
+``f^n(h) = m(h)/m0 + |0.9 - J_c(h, K(h))|`` if ``J_c <= 2``, else ``m(h)/m0 + 10``   (Step 4),
+
+with ``m(h)`` the T-truss mass from the DC gain ``W_P1 -> a_P1`` (the whole spacecraft's rigid mass minus the
+other bodies, checked against ``rho h^2 * total beam length``). A failed synthesis gets the penalty and its reason
+is logged; it never stops the run. Particles of an iteration are evaluated in parallel by Dask
+(:func:`evaluate_swarm`): a local cluster by default, or any scheduler (e.g. dask-jobqueue on Slurm).
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import spacecraft
+from .closedloop import LoopSettings
+
+__all__ = ["M0_PAPER", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "local_client"]
+
+M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
+TARGET_JC = 0.9
+PENALTY = 10.0
+JC_LIMIT = 2.0
+
+
+def objective_value(mass: float, j_c: float, m0: float) -> float:
+    """The paper's nested objective ``f^n`` (penalty 10 when ``J_c > 2`` or the synthesis failed, ``J_c = inf``)."""
+    if not (np.isfinite(j_c) and j_c <= JC_LIMIT):
+        return mass / m0 + PENALTY
+    return mass / m0 + abs(TARGET_JC - j_c)
+
+
+def truss_mass_from_dc(models, params: dict | None = None) -> float:
+    """T-truss mass [kg] from the DC gain ``W_P1 -> a_P1`` of the reduced model at nominal parameters.
+
+    The 6x6 DC gain is inverted (the CoG is not at P1); its (1, 1) entry is the spacecraft mass, from which the
+    hub, panels, antenna and PMAs are subtracted.
+    """
+    p = params or spacecraft.load_parameters()
+    a, b, c, d = models.g_r.evaluate({k: v.nominal for k, v in models.g_r.params.items()})
+    ii = [spacecraft.INPUTS.index(f"W_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    oo = [spacecraft.OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    mass = float(np.linalg.inv(d[np.ix_(oo, ii)] - c[oo] @ np.linalg.solve(a, b[:, ii]))[0, 0])
+    others = {k: v for k, v in spacecraft.component_masses(models.h, params=p).items() if k != "truss"}
+    return mass - sum(others.values())
+
+
+def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
+                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None) -> dict:
+    """One objective evaluation (Steps 1-4 for one particle); never raises.
+
+    Parameters
+    ----------
+    h : float
+        Section side [m].
+    gain0 : array_like (4, 8), optional
+        Warm start (default: all gains at -1).
+    settings, params
+        Closed-loop settings and spacecraft parameters (defaults: the data files).
+    m0 : float
+        Reference mass [kg] (the paper's 183.11 kg, truss at 3 cm).
+    fail : bool
+        Raise inside the evaluation (to test that a failure is penalised and logged, not fatal).
+    synthesis_options : dict, optional
+        Passed to :func:`lib.design.robust_design`.
+
+    Returns
+    -------
+    dict
+        ``h``, ``f``, ``J_c``, ``Z_c``, ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
+        (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
+        ``t_model``, ``t_synthesis`` [s].
+    """
+    from threadpoolctl import threadpool_limits
+
+    from . import design
+
+    t0 = time.perf_counter()
+    out = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "t_model": 0.0, "t_synthesis": 0.0}
+    p = params or spacecraft.load_parameters()
+    out["mass_check"] = spacecraft.truss_mass(float(h), p)
+    out["mass"] = out["mass_check"]
+    try:
+        with threadpool_limits(1):
+            if fail:
+                raise RuntimeError("injected failure (test)")
+            models = design.models_at(float(h), params=p)
+            out["t_model"] = time.perf_counter() - t0
+            out["mass"] = truss_mass_from_dc(models, p)
+            t1 = time.perf_counter()
+            res = design.robust_design(models, settings, gain0=gain0, workers=1, **(synthesis_options or {}))
+            out["t_synthesis"] = time.perf_counter() - t1
+        out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations)
+        out["status"] = "ok" if res.success else f"failed: {res.message}"
+        if not res.success:
+            out["J_c"] = np.inf
+    except Exception as exc:  # a failed particle is penalised and logged, never fatal
+        out["status"] = f"failed: {type(exc).__name__}: {exc}"
+        out["traceback"] = traceback.format_exc(limit=3)
+    if out["status"] == "ok" and out["J_c"] > JC_LIMIT:
+        out["status"] = "penalty: J_c > 2"
+    out["f"] = objective_value(out["mass"], out["J_c"], m0)
+    out["t_total"] = time.perf_counter() - t0
+    return out
+
+
+def local_client(n_workers: int | None = None, scheduler: str | None = None):
+    """A Dask client: to ``scheduler`` (address of a running scheduler) or a local cluster of ``n_workers`` processes.
+
+    Workers get one thread each and one BLAS thread (``OPENBLAS_NUM_THREADS=1`` is set before they start), so that
+    process-level parallelism does not oversubscribe the cores.
+    """
+    import os
+
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        return Client(scheduler)
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = "1"
+    n = n_workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+    return Client(cluster)
+
+
+def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
+                   params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
+                   retries: int = 2, synthesis_options: dict | None = None) -> list[dict]:
+    """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
+
+    A worker that dies is retried (``retries`` times) by Dask; the results do not depend on the number of
+    workers (each evaluation is deterministic and single-threaded). ``fail_particles`` injects failures (tests).
+    """
+    from tqdm.auto import tqdm
+
+    gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
+    kw = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options)
+    bar = tqdm(total=len(hs), desc="particles", disable=not progress, leave=False)
+    if client is None:
+        out = []
+        for i, h in enumerate(hs):
+            out.append(evaluate_particle(h, gain0, fail=i in fail_particles, **kw))
+            bar.update()
+        bar.close()
+        return out
+    from dask.distributed import as_completed
+
+    futures = [client.submit(evaluate_particle, float(h), gain0, fail=i in fail_particles, pure=False, retries=retries, **kw)
+               for i, h in enumerate(hs)]
+    for _ in as_completed(futures):
+        bar.update()
+    bar.close()
+    return client.gather(futures)
+

@@ -1,0 +1,87 @@
+"""Particle swarm: convergence on a known minimum, MATLAB's adaptive rules, reproducibility, resume from a checkpoint,
+and the same result through Dask with 1 and 2 workers; the co-design objective's penalty and failure handling."""
+
+import numpy as np
+import pytest
+
+from lib import codesign, pso
+
+
+def quadratic(x, state):
+    return [{"f": float((xi[0] - 0.3) ** 2 + 0.1 * np.sin(20 * xi[0]) ** 2)} for xi in x]
+
+
+def test_finds_the_minimum_of_a_known_function():
+    grid = np.linspace(0, 1, 200001)
+    f = (grid - 0.3) ** 2 + 0.1 * np.sin(20 * grid) ** 2
+    state = pso.run(quadratic, n=12, lower=[0.0], upper=[1.0], iterations=30, seed=1)
+    assert abs(state.g_f - f.min()) < 1e-5 * (f.max() - f.min())  # the global basin (local minima near 0.15 and 0.45)
+    assert abs(state.g[0] - grid[np.argmin(f)]) < 1e-2
+
+
+def test_reproducible_and_resumable(tmp_path):
+    a = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7)
+    b = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7)
+    assert a.history == b.history
+    ck = tmp_path / "state.json"
+    part = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck, stop_after=3)
+    assert part.iteration == 3 and ck.exists()
+    resumed = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck)
+    assert resumed.iteration == 8
+    assert resumed.history == a.history and resumed.g_f == a.g_f and np.array_equal(resumed.x, a.x)
+    with pytest.raises(ValueError, match="another run"):
+        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=8, checkpoint=ck)
+
+
+def test_matlab_adaptive_rules():
+    state = pso.init_swarm(24, [0.0], [1.0], seed=0)
+    assert state.inertia == 1.1 and state.neighbours == 6  # max(2, floor(0.25 * 24))
+    pso.update_bests(state, np.arange(24.0))  # improvement from inf: c = 0 < 2 -> W doubled, clipped to 1.1
+    assert state.inertia == 1.1 and state.neighbours == 6 and state.counter == 0
+    for k in range(7):  # no improvement: c grows, N grows by N_min up to n - 1
+        pso.update_bests(state, np.full(24, 100.0))
+    assert state.counter == 7 and state.neighbours == 23
+    pso.update_bests(state, np.r_[-1.0, np.full(23, 100.0)])  # improvement with c = 6 > 5: W halved
+    assert state.counter == 6 and np.isclose(state.inertia, 0.55) and state.neighbours == 6
+    with pytest.raises(ValueError, match="swarm size"):
+        pso.init_swarm(1, [0.0], [1.0], 0)
+    with pytest.raises(ValueError, match="bounds"):
+        pso.init_swarm(4, [1.0], [0.0], 0)
+
+
+def cheap(h):
+    return {"h": h, "f": float(np.cos(40 * h) + h)}
+
+
+def test_same_result_with_one_and_two_dask_workers():
+    pytest.importorskip("dask.distributed")
+    results = []
+    for n_workers in (1, 2):
+        client = codesign.local_client(n_workers)
+        try:
+            def evaluate(x, state, client=client):
+                return client.gather(client.map(cheap, [float(v[0]) for v in x], pure=False))
+
+            results.append(pso.run(evaluate, n=4, lower=[0.015], upper=[0.03], iterations=4, seed=3))
+        finally:
+            client.close()
+            client.cluster.close()
+    assert results[0].history == results[1].history
+
+
+def test_objective_and_failures():
+    m0 = codesign.M0_PAPER
+    assert codesign.objective_value(93.55, 0.9011, m0) == pytest.approx(93.55 / m0 + 0.0011)
+    assert codesign.objective_value(50.0, 2.5, m0) == pytest.approx(50.0 / m0 + 10)
+    assert codesign.objective_value(50.0, np.inf, m0) == pytest.approx(50.0 / m0 + 10)
+    r = codesign.evaluate_particle(0.02, fail=True)
+    assert r["status"].startswith("failed: RuntimeError") and r["f"] == pytest.approx(r["mass"] / m0 + 10)
+    # a PSO run in which one particle fails keeps going and records it
+    def evaluate(x, state):
+        out = quadratic(x, state)
+        out[1] = {"f": np.inf, "status": "failed: injected"}
+        return out
+
+    state = pso.run(evaluate, n=4, lower=[0.0], upper=[1.0], iterations=3, seed=0)
+    assert state.iteration == 3 and sum(r.get("status", "") == "failed: injected" for r in state.history) == 3
+    assert np.isfinite(state.g_f)
