@@ -78,14 +78,15 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     dict
         ``h``, ``f``, ``J_c``, ``Z_c``, ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
         (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
-        ``t_model``, ``t_synthesis`` [s].
+        ``t_model`` (= ``t_build`` + ``t_reduction``), ``t_synthesis`` [s].
     """
     from threadpoolctl import threadpool_limits
 
     from . import design
 
     t0 = time.perf_counter()
-    out = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "t_model": 0.0, "t_synthesis": 0.0}
+    out = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
+           "t_synthesis": 0.0}
     p = params or spacecraft.load_parameters()
     out["mass_check"] = spacecraft.truss_mass(float(h), p)
     out["mass"] = out["mass_check"]
@@ -95,6 +96,7 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
                 raise RuntimeError("injected failure (test)")
             models = design.models_at(float(h), params=p)
             out["t_model"] = time.perf_counter() - t0
+            out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
             out["mass"] = truss_mass_from_dc(models, p)
             t1 = time.perf_counter()
             res = design.robust_design(models, settings, gain0=gain0, workers=1, **(synthesis_options or {}))
@@ -161,3 +163,55 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     bar.close()
     return client.gather(futures)
 
+
+
+def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
+                 client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
+                 m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
+                 stop_after: int | None = None, log=print):
+    """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
+
+    Parameters
+    ----------
+    n_particles, n_iterations : int
+        Swarm size and iterations (paper: 24 and 20).
+    h_range : tuple of float
+        Design range of h [m] (paper: [0.015, 0.03]).
+    seed : int
+        Seed of the swarm (the run is reproducible, whatever the number of workers).
+    client : dask.distributed.Client, optional
+        Where the particles are evaluated (default: sequentially in this process).
+    checkpoint : path, optional
+        State file written after each iteration; an interrupted run resumes from it.
+    fail_particles : sequence of (iteration, particle)
+        Inject failures (tests): those evaluations raise inside the worker.
+    stop_after : int, optional
+        Stop after this many iterations (tests of the resume).
+    log : callable
+        Receives the one-line summary of each iteration.
+
+    Returns
+    -------
+    lib.pso.SwarmState
+        With ``history`` (every particle: h, f, J_c, Z_c, mass, status, gain, times) and ``extra["best_gain"]``.
+    """
+    from . import pso
+
+    def evaluate(x: NDArray, state) -> list[dict]:
+        gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
+        fails = [p for it, p in fail_particles if it == state.iteration]
+        recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress)
+        ok = [r for r in recs if r["gain"] is not None]
+        if ok:
+            best = min(ok, key=lambda r: r["f"])
+            state.extra["best_gain"] = best["gain"]
+        return recs
+
+    def summary(state) -> None:
+        it = [r for r in state.history if r["iteration"] == state.iteration - 1]
+        best = min(it, key=lambda r: r["f"])
+        failed = sum(not str(r.get("status", "")).startswith("ok") for r in it)
+        log(f"iteration {state.iteration}/{n_iterations}: best of iteration h = {100 * best['h']:.4f} cm, J_c = {best['J_c']:.4f}, "
+            f"f^n = {best['f']:.5f}; swarm best f^n = {state.g_f:.5f} at h = {100 * state.g[0]:.4f} cm; {failed} failed/penalised")
+
+    return pso.run(evaluate, n_particles, [h_range[0]], [h_range[1]], n_iterations, seed, checkpoint, summary, stop_after)

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike
 
 from .paths import resolve
 
-__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure"]
+__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels"]
 
 
 def savefig(fig: plt.Figure, name: str, figures_dir: str | Path = "figures") -> Path:
@@ -66,3 +66,43 @@ def draw_structure(ax: plt.Axes, nodes: Mapping[str, ArrayLike], members: Sequen
         ax.set_zlabel("z [m]")
     if title:
         ax.set_title(title)
+
+
+def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[float, float]) -> plt.Figure:
+    """The paper's four-panel PSO figure from the particle records (``iteration``, ``h`` [m], ``J_c``, ``f``).
+
+    (a) boxplots of h per iteration, (b) of the finite J_c per iteration, the best particle of each iteration
+    highlighted (yellow dots, as the paper); (c) the swarm's best f^n against the iteration; (d) h and J_c of the
+    best particle of each iteration.
+    """
+    its = list(range(n_iterations))
+    per = [[r for r in history if r["iteration"] == k] for k in its]
+    per = [p for p in per if p]
+    best = [min(p, key=lambda r: r["f"]) for p in per]
+    x = np.arange(1, len(per) + 1)
+    fig, axes = plt.subplots(2, 2, figsize=(13, 8))
+    ax = axes[0, 0]
+    ax.boxplot([[100 * r["h"] for r in p] for p in per], positions=x, widths=0.6)
+    ax.plot(x, [100 * b["h"] for b in best], "o", color="gold", mec="k", label="best particle")
+    ax.set(xlabel="iteration", ylabel="h [cm]", title="(a) particles: section side", ylim=(100 * h_range[0] - 0.05, 100 * h_range[1] + 0.05))
+    ax.legend(fontsize=8)
+    ax = axes[0, 1]
+    ax.boxplot([[r["J_c"] for r in p if np.isfinite(r["J_c"])] or [np.nan] for p in per], positions=x, widths=0.6)
+    ax.plot(x, [b["J_c"] for b in best], "o", color="gold", mec="k", label="best particle")
+    ax.set(xlabel="iteration", ylabel="$J_c$ (worst case)", title="(b) particles: robust pointing performance")
+    ax.legend(fontsize=8)
+    ax = axes[1, 0]
+    ax.plot(x, np.minimum.accumulate([b["f"] for b in best]), "k.-")
+    ax.set(xlabel="iteration", ylabel="$f^n$ of the swarm's best", title="(c) convergence")
+    ax = axes[1, 1]
+    ax.plot(x, [100 * b["h"] for b in best], "C0o-", label="h")
+    ax.set(xlabel="iteration", ylabel="h [cm]", title="(d) best particle of each iteration")
+    ax2 = ax.twinx()
+    ax2.plot(x, [b["J_c"] for b in best], "C3s--", label="$J_c$")
+    ax2.set_ylabel("$J_c$")
+    ax.legend(loc="upper left", fontsize=8)
+    ax2.legend(loc="upper right", fontsize=8)
+    for a in axes.ravel():
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig

@@ -31,7 +31,7 @@ from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
 __all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
-           "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices"]
+           "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
@@ -318,3 +318,15 @@ def with_choices(params: dict | None = None, sadm_stiffness: float | None = None
             raise ValueError(f"panel_turn_z_deg needs the keys 'SP1' and 'SP2', got {sorted(panel_turn_z_deg)}")
         ch["panel_turn_z_deg"] = {k: _finite(v, f"panel_turn_z_deg[{k}]") for k, v in panel_turn_z_deg.items()}
     return p
+
+
+def load_preset(name: str) -> dict:
+    """A named preset of ``data/spacecraft/presets/<name>.json``: ``{"closed_loop": {...}, "choices": {...}}`` overrides.
+
+    Presets are separate studies (e.g. ``paper_match``), never the default parameters.
+    """
+    path = paths.DATA / "spacecraft" / "presets" / f"{name}.json"
+    if not path.exists():
+        known = sorted(p.stem for p in path.parent.glob("*.json"))
+        raise ValueError(f"unknown preset {name!r}; available: {known}")
+    return json.loads(path.read_text())

@@ -144,6 +144,26 @@ class LoopPeaks:
         return self.peaks[group][0][1]
 
 
+def _golden(fun, lo: float, hi: float, tol: float = 1e-9, max_iter: int = 80) -> tuple[float, float]:
+    """Maximise a unimodal ``fun(log w)`` on ``[lo, hi]`` by golden-section search; returns ``(value, log w)``."""
+    g = (np.sqrt(5) - 1) / 2
+    a, b = lo, hi
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = fun(c), fun(d)
+    for _ in range(max_iter):
+        if b - a < tol:
+            break
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = fun(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = fun(d)
+    return (fc, c) if fc > fd else (fd, d)
+
+
 def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> NDArray:
     """Largest singular value of ``CV diag(1/(jw - lam)) VB + D`` at each w."""
     h = (cv[None, :, :] * (1.0 / (1j * w[:, None] - lam[None, :]))[:, None, :]) @ vb + d
@@ -152,7 +172,7 @@ def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> N
     return np.linalg.svd(h, compute_uv=False)[:, 0]
 
 
-def _golden(fun, lo: float, hi: float, tol: float = 1e-10, max_iter: int = 80) -> tuple[float, float]:
+def _golden(fun, lo: float, hi: float, tol: float = 1e-9, max_iter: int = 80) -> tuple[float, float]:
     """Maximise a unimodal ``fun(log w)`` on ``[lo, hi]`` by golden-section search; returns ``(value, log w)``."""
     g = (np.sqrt(5) - 1) / 2
     a, b = lo, hi
@@ -216,7 +236,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         cand = cand[np.argsort(s[cand])[::-1]][:n_peaks]
         peaks = []
         for i in cand:
-            if 0 < i < grid.size - 1:
+            if 0 < i < grid.size - 1 and s[i] >= 0.5 * s[cand[0]]:  # refine the peaks that can matter
                 val, lw = _golden(lambda x: float(_sv_max(cv, lam, vb, dg, np.array([np.exp(x)]))[0]),
                                   np.log(grid[i - 1]), np.log(grid[i + 1]))
                 peaks.append((max(val, float(s[i])), float(np.exp(lw)) if val >= s[i] else float(grid[i])))
@@ -302,14 +322,15 @@ class WorstCase:
 
 
 def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, thetas_deg: Sequence[float] | None = None,
-               refine: int = 2, max_evals: int = 40, min_decay: float = 1e-7, workers: int | None = None) -> WorstCase:
+               refine: int = 2, max_evals: int = 30, min_decay: float = 1e-7, workers: int | None = None) -> WorstCase:
     """Search the uncertainty box for the worst RPE and effort peaks with a given gain.
 
     Candidates: the 8 corners of (M_SC, Iyy_SC, omega1_SP) and the nominal, at each panel angle of
-    ``thetas_deg`` (default 13 angles, 0 to 180 deg); then the ``refine`` best candidates of each group
-    are improved by a bounded Nelder-Mead search over (d_mass, d_iyy, d_omega1, theta).
+    ``thetas_deg`` (default 10 angles, every 20 deg from 0 to 180); then the ``refine`` best candidates of each
+    group are improved by a bounded Nelder-Mead search over (d_mass, d_iyy, d_omega1, theta), ``max_evals``
+    evaluations each.
     """
-    thetas = np.deg2rad(np.linspace(0.0, 180.0, 13) if thetas_deg is None else np.asarray(thetas_deg, dtype=float))
+    thetas = np.deg2rad(np.linspace(0.0, 180.0, 10) if thetas_deg is None else np.asarray(thetas_deg, dtype=float))
     corners = [np.array(c) for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)] + [np.zeros(3)]
     evals = 0
     unstable: list[Scenario] = []
@@ -403,25 +424,28 @@ class SynthesisResult:
 class _State:
     gain: NDArray
     peaks: list[LoopPeaks]
-    extra: list[_Eigen] = field(default_factory=list)  # closed-loop eigenstructure of the stability-only plants
+    extra: list[_Eigen | None] = field(default_factory=list)  # stability-only plants (None: not evaluated)
     min_decay: float = 1e-7
 
     def value(self, group: str) -> float:
         return max(p.norm(group) for p in self.peaks)
 
     def stable(self) -> bool:
-        return all(p.stable for p in self.peaks) and all(x.margin < -self.min_decay for x in self.extra)
+        return all(p.stable for p in self.peaks) and all(x is not None and x.margin < -self.min_decay for x in self.extra)
 
     def abscissa(self) -> float:
-        return max([p.abscissa for p in self.peaks] + [x.margin for x in self.extra])
+        return max([p.abscissa for p in self.peaks] + [x.margin for x in self.extra if x is not None])
 
 
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0) -> _State:
-    jobs = [("peaks", p) for p in plants] + [("check", p) for p in checks]
-    out = list(pmap(lambda job: loop_peaks(job[1], gain, min_decay=min_decay) if job[0] == "peaks"
-                    else _eigen(job[1], gain, min_damping, omega_check), jobs))
-    return _State(gain, out[: len(plants)], out[len(plants):], min_decay)
+    """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
+    plants (skipped for a step that is rejected anyway)."""
+    peaks = list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay), plants))
+    state = _State(gain, peaks, [None] * len(checks), min_decay)
+    if all(p.stable for p in peaks):
+        state.extra = list(pmap(lambda p: _eigen(p, gain, min_damping, omega_check), checks))
+    return state
 
 
 def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[float, NDArray]]:
@@ -478,7 +502,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     max_rounds : int
         Rounds of (optimise on the set, search the box, add the worst scenarios).
     search_thetas_deg : sequence of float, optional
-        Panel angles of the worst-case search grid [deg] (default 13 from 0 to 180).
+        Panel angles of the worst-case search grid [deg] (default 10, every 20 deg from 0 to 180).
     min_decay : float
         Stability margin on the closed-loop poles [1/s].
     band : float
@@ -562,6 +586,8 @@ class _Problem:
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
         """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
         rows = [(v, g, -self.min_decay) for p in (self.plants if all_plants else []) for v, g in _eigen(p, state.gain).rows(6)]
+        state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check)
+                       for x, p in zip(state.extra, self.checks)]
         return rows + [(v, g, -self.min_decay) for x in state.extra for v, g in x.rows(8)]
 
     def radius(self, gain: NDArray) -> NDArray:
