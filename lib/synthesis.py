@@ -126,14 +126,17 @@ class LoopPeaks:
     """Peaks of the closed loop with a static gain at one scenario.
 
     ``peaks[group]`` is a list of ``(value, omega)`` local maxima of the largest singular value of the
-    group's transfer from p~ (``"rpe"`` or ``"effort"``), largest first; ``abscissa`` is the largest real
-    part of the closed-loop poles [1/s] and ``stable`` whether it is below ``-min_decay``.
+    group's transfer from p~ (``"rpe"`` or ``"effort"``), largest first; ``abscissa`` is the largest
+    ``Re lambda + min_damping |lambda|`` over the closed-loop poles [1/s] (the largest real part when
+    ``min_damping = 0``) and ``stable`` whether it is below ``-min_decay``: every pole stable and damped at
+    least ``min_damping``.
     """
 
     peaks: dict[str, list[tuple[float, float]]]
     abscissa: float
     stable: bool
     checked: float = 0.0  # relative difference of the top peak between modal and direct evaluation
+    eigen: "_Eigen | None" = None  # the closed-loop eigen-decomposition (margins and their gradients)
 
     def norm(self, group: str) -> float:
         """Largest peak of a group (inf if unstable)."""
@@ -193,7 +196,7 @@ def _golden(fun, lo: float, hi: float, tol: float = 1e-9, max_iter: int = 80) ->
 
 
 def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[float, float] = (1e-2, 3e3), n_log: int = 120,
-               n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS) -> LoopPeaks:
+               n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS, min_damping: float = 0.0) -> LoopPeaks:
     """Peaks of ``sigma_max(T_{p~ -> group}(jw))`` of the closed loop, on a peak-aware grid, refined.
 
     Parameters
@@ -211,6 +214,8 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         Local maxima kept per group (each refined by golden-section search in log frequency).
     min_decay : float
         Stability margin: all poles must have real part below ``-min_decay`` [1/s].
+    min_damping : float
+        Smallest damping ratio accepted for every closed-loop pole (0: stability only).
     """
     if plant.n_delta:
         raise ValueError("loop_peaks needs a plant without open Delta channels (substitute the uncertain parameters)")
@@ -218,7 +223,9 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     sl = plant.slices()
     b, d = b[:, sl["p"]], d[:, sl["p"]]
     lam, vec = np.linalg.eig(a)
-    abscissa = float(np.max(lam.real)) if lam.size else -np.inf
+    ne, nr = plant.n_exo, plant.n_reg
+    eigen = _Eigen(lam, vec, lam.real + min_damping * np.abs(lam), plant.b[:, ne:], plant.c[nr:, :])
+    abscissa = eigen.margin if lam.size else -np.inf
     cv_all, vb = c @ vec, np.linalg.solve(vec, b)
     wn = np.abs(lam)
     zeta = -lam.real / np.maximum(wn, 1e-300)
@@ -251,7 +258,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         if checked > 1e-6:
             peaks[0] = (direct, w0)
         out[group] = peaks
-    return LoopPeaks(out, abscissa, abscissa < -min_decay, checked)
+    return LoopPeaks(out, abscissa, abscissa < -min_decay, checked, eigen)
 
 
 def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: float) -> tuple[float, NDArray[np.float64]]:
@@ -322,7 +329,8 @@ class WorstCase:
 
 
 def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, thetas_deg: Sequence[float] | None = None,
-               refine: int = 2, max_evals: int = 30, min_decay: float = 1e-7, workers: int | None = None) -> WorstCase:
+               refine: int = 2, max_evals: int = 30, min_decay: float = 1e-7, workers: int | None = None,
+               min_damping: float = 0.0) -> WorstCase:
     """Search the uncertainty box for the worst RPE and effort peaks with a given gain.
 
     Candidates: the 8 corners of (M_SC, Iyy_SC, omega1_SP) and the nominal, at each panel angle of
@@ -336,7 +344,7 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     unstable: list[Scenario] = []
 
     def evaluate(sc: Scenario) -> LoopPeaks:
-        lp = loop_peaks(plant_at(model, sc, inertia_p1, settings), gain, min_decay=min_decay, n_peaks=1)
+        lp = loop_peaks(plant_at(model, sc, inertia_p1, settings), gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping)
         if not lp.stable:
             unstable.append(sc)
         return lp
@@ -438,10 +446,11 @@ class _State:
 
 
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
-              checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0) -> _State:
+              checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0,
+              min_damping_all: float = 0.0) -> _State:
     """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
     plants (skipped for a step that is rejected anyway)."""
-    peaks = list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay), plants))
+    peaks = list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay, min_damping=min_damping_all), plants))
     state = _State(gain, peaks, [None] * len(checks), min_decay)
     if all(p.stable for p in peaks):
         state.extra = list(pmap(lambda p: _eigen(p, gain, min_damping, omega_check), checks))
@@ -472,7 +481,7 @@ def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, N
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
                scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
-               min_damping: float = 5e-4, omega_check: float = 500.0, max_iter: int = 60,
+               min_damping: float = 5e-4, omega_check: float = 500.0, min_damping_all: float = 2e-4, max_iter: int = 60,
                max_rounds: int = 6, search_thetas_deg=None, min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, radius0: float = 1.0, workers: int | None = None, verbose: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
@@ -527,7 +536,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
     with _workers(workers) as pmap:
         prob = _Problem(list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen)), list(stability_models), pmap,
-                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check)
+                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
+                        min_damping_all)
         for round_ in range(max_rounds):
             state = _stabilise(prob, prob.evaluate(gain))
             if not state.stable():
@@ -535,7 +545,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                 break
             state = _optimise(prob, state)
             gain = state.gain
-            worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers)
+            worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
+                               min_damping=min_damping_all)
             prob.evaluations += worst.evaluations
             added = _uncovered(state, worst, settings.gamma_u, tol, margin)
             if verbose:
@@ -575,17 +586,19 @@ class _Problem:
     verbose: bool
     min_damping: float = 0.0
     omega_check: float = 0.0
+    min_damping_all: float = 0.0
     iterations: int = 0
     evaluations: int = 0
     history: list[dict] = field(default_factory=list)
 
     def evaluate(self, gain: NDArray) -> _State:
         self.evaluations += len(self.plants)
-        return _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check)
+        return _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check,
+                         self.min_damping_all)
 
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
         """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
-        rows = [(v, g, -self.min_decay) for p in (self.plants if all_plants else []) for v, g in _eigen(p, state.gain).rows(6)]
+        rows = [(v, g, -self.min_decay) for lp in state.peaks for v, g in lp.eigen.rows(6 if all_plants else 2)]
         state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check)
                        for x, p in zip(state.extra, self.checks)]
         return rows + [(v, g, -self.min_decay) for x in state.extra for v, g in x.rows(8)]
