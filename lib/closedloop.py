@@ -168,6 +168,7 @@ class GeneralizedPlant:
     rigid_rank: int
     dropped: dict = field(default_factory=dict)
     settings: LoopSettings = field(default_factory=LoopSettings)
+    _passive_damping: float | None = field(default=None, repr=False, compare=False)  # cache of passive_damping()
 
     N_P, N_V, N_RPE, N_U, N_Y = 2, 4, 2, 4, 8
 
@@ -210,6 +211,13 @@ class GeneralizedPlant:
         if np.any(d_yv):
             return np.linalg.eigvals(self.closed_loop(k)[0])
         return np.linalg.eigvals(self.a + self.b[:, ne:] @ k @ self.c[nr:, :])
+
+    def passive_damping(self) -> float:
+        """Smallest damping ratio of the closed-loop poles with the PMAs passive (K = 0), cached."""
+        if self._passive_damping is None:
+            lam = self.closed_loop_poles(np.zeros((self.N_V, self.N_Y)))
+            self._passive_damping = float(np.min(-lam.real / np.abs(lam)))
+        return self._passive_damping
 
     def freqresp(self, omega: ArrayLike) -> NDArray[np.complex128]:
         """Frequency response of P, shape ``(outputs, inputs, len(omega))`` (direct solve per frequency)."""

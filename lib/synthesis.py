@@ -215,7 +215,9 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     min_decay : float
         Stability margin: all poles must have real part below ``-min_decay`` [1/s].
     min_damping : float
-        Smallest damping ratio accepted for every closed-loop pole (0: stability only).
+        Smallest damping ratio accepted for every closed-loop pole (0: stability only), capped at half the
+        scenario's own passive (K = 0) smallest damping, so that the requirement never exceeds what the
+        structure itself has.
     """
     if plant.n_delta:
         raise ValueError("loop_peaks needs a plant without open Delta channels (substitute the uncertain parameters)")
@@ -223,6 +225,8 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     sl = plant.slices()
     b, d = b[:, sl["p"]], d[:, sl["p"]]
     lam, vec = np.linalg.eig(a)
+    if min_damping > 0:
+        min_damping = min(min_damping, 0.5 * plant.passive_damping())
     ne, nr = plant.n_exo, plant.n_reg
     eigen = _Eigen(lam, vec, lam.real + min_damping * np.abs(lam), plant.b[:, ne:], plant.c[nr:, :])
     abscissa = eigen.margin if lam.size else -np.inf
@@ -483,7 +487,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
                min_damping: float = 5e-4, omega_check: float = 500.0, min_damping_all: float = 2e-4, max_iter: int = 60,
                max_rounds: int = 6, search_thetas_deg=None, min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
-               tol: float = 2e-3, radius0: float = 1.0, workers: int | None = None, verbose: bool = False) -> SynthesisResult:
+               tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
+               verbose: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
 
     Parameters
@@ -519,8 +524,9 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     margin : float
         The linearised effort peaks are kept below ``gamma_u (1 - margin)``.
     tol : float
-        Relative decrease of J below which the optimiser stops; also the relative tolerance with which
-        a searched worst case is accepted as covered by the set.
+        Relative decrease of J below which the optimiser stops.
+    cover_tol : float
+        Relative excess over the set's J (or Z) below which a searched worst case counts as covered by the set.
     radius0 : float
         Initial trust radius on each gain entry.
     workers : int, optional
@@ -548,7 +554,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
                                min_damping=min_damping_all)
             prob.evaluations += worst.evaluations
-            added = _uncovered(state, worst, settings.gamma_u, tol, margin)
+            added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin)
             if verbose:
                 print(f"round {round_}: {len(prob.plants)} scenarios, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
                       f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
