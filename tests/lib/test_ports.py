@@ -104,4 +104,7 @@ def test_statespace_conversion_has_named_signals():
     assert sys.input_labels[:2] == ["W_C_Tx", "W_C_Ty"]
     assert sys.output_labels[6:8] == ["W_P_Tx", "W_P_Ty"]
     g = sys(1j * 10.0)
-    np.testing.assert_allclose(g, model.freqresp([10.0])[:, :, 0], rtol=1e-12)
+    # python-control evaluates through SLICOT (tb05ad) when slycot is installed: agreement to 1e-12 of the largest
+    # entry (entries near zero differ by 1e-10 of themselves, round-off of an independent evaluation)
+    ref = model.freqresp([10.0])[:, :, 0]
+    np.testing.assert_allclose(g, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
