@@ -13,6 +13,10 @@ closed by ``w = Delta z``, ``Delta = diag(delta_1 I_k1, ..., delta_m I_km)``, ``
   (cvxpy, built once per block structure with the data as parameters) minimises ``t``; the bound is then
   *re-certified* in floating point from the scalings alone (``t = lambda_max`` of a Schur complement), so an
   inaccurate solve can only loosen the bound, never make it invalid.
+* :func:`wc_gain_upper_bb` tightens it by branch and bound over the parameter box (as ``wcgain`` does): the box is
+  split in halves, each sub-box's LFT is re-centred (:func:`recentre`) and bounded on its own; the bound is the
+  largest over the leaves. On a lightly damped mode whose frequency the parameters move over many bandwidths, the
+  D-G bound over the whole box is very conservative (often infinite); on small sub-boxes it is not.
 * :func:`wc_gain_upper_sweep` applies it on a frequency grid (nothing is claimed between grid points).
 * :func:`wc_gain_lower` returns an *achieved* gain: corners and random points on the grid, then L-BFGS-B
   over ``(delta, log w)``.
@@ -30,7 +34,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize
 
-__all__ = ["UpperBound", "UpperSweep", "LowerBound", "lft_upper", "wc_gain_upper", "wc_gain_upper_sweep", "wc_gain_lower"]
+__all__ = ["UpperBound", "UpperSweep", "LowerBound", "BranchBound", "lft_upper", "recentre", "wc_gain_upper", "wc_gain_upper_bb",
+           "wc_gain_upper_sweep", "wc_gain_lower"]
 
 _EPS_LMI = 1e-7  # strictness of the LMI, in the normalised coordinates
 _MAX_COND = 1e14  # I - M11 Delta (of the balanced M) with a larger condition number is singular (ill-posed)
@@ -237,7 +242,10 @@ def _certify(ms: NDArray, sizes: tuple[int, ...], dmat: NDArray, gmat: NDArray) 
     return max(np.linalg.eigvalsh(0.5 * (schur + schur.conj().T))[-1], 0.0), margin, dmat
 
 
-def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", **solver_opts) -> UpperBound:
+_RETRIES = (("CLARABEL", {"static_regularization_constant": 1e-7}), ("SCS", {}))  # after a failed first solve
+
+
+def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", retry: bool = True, **solver_opts) -> UpperBound:
     """Certified upper bound on ``max_Delta sigma_max(F_u(M, Delta))`` at one frequency (D-G scaling LMI).
 
     Parameters
@@ -248,14 +256,31 @@ def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", **so
         Repetitions of the real scalar blocks.
     solver : str
         cvxpy SDP solver (``"CLARABEL"`` or ``"SCS"``).
+    retry : bool
+        If the solve fails or its certificate does not hold, solve again with Clarabel's static regularisation
+        raised to 1e-7, then with SCS (measured: Clarabel fails now and then on these near-singular data, on one
+        call and not on the next with the same data, while the bound is finite and tight).
     **solver_opts
         Passed to the solver; for Clarabel the tolerances default to 1e-7 (the bound is re-certified anyway).
 
     Returns
     -------
     UpperBound
-        ``beta = inf`` if the solve fails or robust well-posedness cannot be certified.
+        ``beta = inf`` if every solve fails or robust well-posedness cannot be certified.
     """
+    first = _wc_gain_upper(m, blocks, solver, **solver_opts)
+    if np.isfinite(first.beta) or not retry:
+        return first
+    for name, opts in _RETRIES:
+        again = _wc_gain_upper(m, blocks, name, **opts)
+        if np.isfinite(again.beta):
+            return UpperBound(again.beta, again.d, again.g, f"{again.status} ({name} {opts} after {first.status})",
+                              again.well_posed_margin)
+    return first
+
+
+def _wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", **solver_opts) -> UpperBound:
+    """One solve of the D-G LMI (see :func:`wc_gain_upper`)."""
     sizes = _block_sizes(blocks)
     m = _check_m(m, sizes)
     n = sum(sizes)
@@ -285,6 +310,113 @@ def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", **so
         return UpperBound(np.inf, nan, nan, f"{prob.status}: certificate failed (well-posedness)", float(margin))
     scale = tv[:, None] * tv[None, :] / ce**2  # back to the coordinates of m
     return UpperBound(float(np.sqrt(t) / (ce * cpv)), dmat * scale, gmat * scale, str(prob.status), float(margin))
+
+
+def recentre(m: ArrayLike, blocks: Sequence, centre: ArrayLike, radius: ArrayLike) -> NDArray[np.complex128]:
+    """``M'`` with ``F_u(M', Delta') = F_u(M, Delta_c + Delta_r Delta')``: the sub-box ``centre +- radius`` of the
+    parameters mapped to the unit box.
+
+    With ``N = (I - M11 Delta_c)^-1``: ``M'11 = N M11 Delta_r``, ``M'12 = N M12``,
+    ``M'21 = M21 (I - Delta_c M11)^-1 Delta_r``, ``M'22 = M22 + M21 Delta_c N M12``.
+
+    Parameters
+    ----------
+    m : array_like, shape (n + n_e, n + n_p)
+    blocks : sequence of int or (name, int)
+    centre, radius : array_like, shape (n_blocks,)
+        Centre in ``[-1, 1]`` and half-width ``> 0`` of the sub-box, per block (normalised units).
+    """
+    sizes = _block_sizes(blocks)
+    m = _check_m(m, sizes)
+    c, r = np.asarray(centre, dtype=float), np.asarray(radius, dtype=float)
+    if c.shape != (len(sizes),) or r.shape != (len(sizes),) or not np.all(r > 0) or not np.all(np.abs(c) + r <= 1 + 1e-12):
+        raise ValueError(f"centre, radius: need {len(sizes)} values each with radius > 0 and |centre| + radius <= 1, "
+                         f"got {c.tolist()}, {r.tolist()}")
+    n = sum(sizes)
+    dc, dr = np.repeat(c, sizes), np.repeat(r, sizes)
+    m11, m12, m21, m22 = m[:n, :n], m[:n, n:], m[n:, :n], m[n:, n:]
+    nm = np.linalg.solve(np.eye(n) - m11 * dc[None, :], np.c_[m11 * dr[None, :], m12])
+    left = np.linalg.solve((np.eye(n) - dc[:, None] * m11).T, m21.T).T
+    return np.block([[nm[:, :n], nm[:, n:]], [left * dr[None, :], m22 + (m21 * dc[None, :]) @ nm[:, n:]]])
+
+
+@dataclass(frozen=True)
+class BranchBound:
+    """Branch-and-bound upper bound over the parameter box at one frequency.
+
+    ``beta`` bounds ``max_Delta sigma_max(F_u)`` (the largest leaf bound), ``lower`` is the largest gain achieved
+    at a leaf centre, ``boxes`` the number of leaves, ``solves`` the LMIs solved, ``status`` why it stopped.
+    """
+
+    beta: float
+    lower: float
+    boxes: int
+    solves: int
+    status: str
+
+
+def wc_gain_upper_bb(m: ArrayLike, blocks: Sequence, target: float | None = None, rtol: float = 0.02, max_solves: int = 200,
+                     min_radius: float = 1.0 / 64, solver: str = "CLARABEL") -> BranchBound:
+    """Upper bound on ``max_Delta sigma_max(F_u(M, Delta))`` tightened by branch and bound over the box.
+
+    The leaf with the largest bound is split in two along the parameter with the widest interval, and both halves are
+    bounded by :func:`wc_gain_upper` on their re-centred LFT (:func:`recentre`), until the largest leaf bound is below
+    ``target`` (default: ``(1 + rtol)`` times the best gain achieved at a leaf centre), or ``max_solves`` LMIs were
+    solved, or the leaf to split is already narrower than ``min_radius`` (normalised) in every parameter.
+
+    Parameters
+    ----------
+    m : array_like, shape (n + n_e, n + n_p)
+        Complex matrix ``M(jw)``, Delta channels first.
+    blocks : sequence of int or (name, int)
+        Repetitions of the real scalar blocks.
+    target : float, optional
+        Stop once the bound is below this value (e.g. ``(1 + rtol)`` times a lower bound over all frequencies).
+    rtol : float
+        Relative gap to the achieved gain at which to stop (used when ``target`` is None).
+    max_solves, min_radius : int, float
+        Work limits; the bound returned is valid whenever it stops.
+    solver : str
+        cvxpy SDP solver.
+    """
+    sizes = _block_sizes(blocks)
+    m = _check_m(m, sizes)
+    if max_solves < 1 or not 0 < min_radius <= 1:
+        raise ValueError(f"max_solves must be >= 1 and min_radius in (0, 1], got {max_solves}, {min_radius}")
+    nb = len(sizes)
+
+    def bound(c: NDArray, r: NDArray) -> tuple[float, float]:
+        mr = recentre(m, sizes, c, r)
+        centre_gain = float(np.linalg.norm(mr[sum(sizes):, sum(sizes):], 2))  # F_u at the centre: Delta' = 0
+        return wc_gain_upper(mr, sizes, solver).beta, centre_gain
+
+    leaves = [(np.zeros(nb), np.ones(nb), *bound(np.zeros(nb), np.ones(nb)))]
+    solves, lower = 1, leaves[0][3]
+    status = "max_solves"
+    while True:
+        k = int(np.argmax([leaf[2] for leaf in leaves]))
+        c, r, beta, _ = leaves[k]
+        goal = target if target is not None else (1 + rtol) * lower
+        if beta <= goal:
+            status = "converged"
+            break
+        if solves + 2 > max_solves:
+            break
+        if r.max() <= min_radius:
+            status = "min_radius"
+            break
+        i = int(np.argmax(r))
+        half = r.copy()
+        half[i] /= 2
+        leaves.pop(k)
+        for sign in (-1.0, 1.0):
+            cc = c.copy()
+            cc[i] += sign * half[i]
+            b, g = bound(cc, half)
+            leaves.append((cc, half, b, g))
+            lower = max(lower, g)
+        solves += 2
+    return BranchBound(float(max(leaf[2] for leaf in leaves)), float(lower), len(leaves), solves, status)
 
 
 def _m_at(m_of_w: MOfW, omegas: NDArray) -> Callable[[int | None, float], NDArray]:

@@ -7,7 +7,9 @@ the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexi
 
 * an **upper bound**: the D-G scaling LMI of :func:`lib.mu.wc_gain_upper` at each frequency of a grid that
   follows the peaks (the log points and the lightly damped closed-loop poles at nominal, restricted to where the
-  sampled worst-case gain is within ``focus`` of its maximum, plus the lower bound's critical frequency);
+  sampled worst-case gain is within ``focus`` of its maximum, plus the lower bound's critical frequency),
+  tightened by branch and bound over the parameter box (:func:`lib.mu.wc_gain_upper_bb`) where it is not within
+  ``bb_rtol`` of the lower bound, as ``wcgain`` does;
 * a **lower bound**: an achieved gain at a worst-case parameter set and frequency (:func:`lib.mu.wc_gain_lower`).
 """
 
@@ -22,7 +24,7 @@ from threadpoolctl import threadpool_limits
 
 from .closedloop import LoopSettings
 from .lft import LFT
-from .mu import lft_upper, wc_gain_lower, wc_gain_upper
+from .mu import lft_upper, wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
 from .synthesis import Scenario, plant_at
 
 __all__ = ["KEEP", "ModalResponse", "AngleBounds", "bounds_at_angle", "physical_deltas"]
@@ -106,18 +108,23 @@ def _grid(lam: NDArray, omega_range: tuple[float, float], n_log: int) -> NDArray
     return np.unique(np.r_[np.geomspace(lo, hi, n_log), wd[sel], (wd * (1 - zeta))[sel], (wd * (1 + zeta))[sel]])
 
 
-def _upper(m: NDArray, structure) -> object:
-    """:func:`lib.mu.wc_gain_upper` with Clarabel, retried with SCS if the first solver fails (reported in the status)."""
-    first = wc_gain_upper(m, structure)
-    if np.isfinite(first.beta):
-        return first
-    second = wc_gain_upper(m, structure, solver="SCS")
-    return second if np.isfinite(second.beta) else first
+def _upper(m: NDArray, structure, target: float, max_solves: int) -> tuple[float, str]:
+    """Upper bound at one frequency: the D-G LMI on the whole box (:func:`lib.mu.wc_gain_upper`, with its solver
+    retries), then, if above ``target``, branch and bound over the box (:func:`lib.mu.wc_gain_upper_bb`).
+    Returns ``(beta, status)``."""
+    whole = wc_gain_upper(m, structure)
+    if whole.beta <= target:
+        return whole.beta, whole.status
+    bb = wc_gain_upper_bb(m, structure, target=target, max_solves=max_solves)
+    if bb.beta < whole.beta:
+        return bb.beta, f"branch and bound: {bb.boxes} boxes, {bb.solves} LMIs ({bb.status})"
+    return whole.beta, whole.status
 
 
 def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings,
                     groups: Sequence[str] = ("rpe", "effort"), omega_range: tuple[float, float] = (1e-2, 2e3), n_log: int = 150,
-                    focus: float = 0.7, max_upper: int = 40, seed: int = 0) -> dict[str, AngleBounds]:
+                    focus: float = 0.7, max_upper: int = 40, seed: int = 0, bb_rtol: float = 0.02,
+                    bb_max_solves: int = 100) -> dict[str, AngleBounds]:
     """Upper and lower bounds of the worst-case gain over ``Delta_p`` at one panel angle ``theta`` [rad].
 
     Parameters
@@ -141,6 +148,9 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
         (at most ``max_upper`` frequencies, the largest first), and at the lower bound's frequency.
     seed : int
         Seed of the random candidates of the lower bound.
+    bb_rtol, bb_max_solves : float, int
+        Where the whole-box bound exceeds ``(1 + bb_rtol)`` times the lower bound (or is infinite), it is tightened
+        by branch and bound over the parameter box, with at most ``bb_max_solves`` LMIs per frequency.
     """
     plant = plant_at(model_low, Scenario(theta=float(theta)), inertia_p1, settings, keep=KEEP)
     structure = LFT(np.zeros((0, 0)), np.zeros((0, plant.n_delta)), np.zeros((plant.n_delta, 0)), np.zeros((plant.n_delta,) * 2),
@@ -164,8 +174,9 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
             order = np.argsort(-sampled)
             pick = [i for i in order[:max_upper] if sampled[i] >= focus * sampled[order[0]]]
             freqs = np.unique(np.r_[grid[pick], lower.omega])
-            ups = [_upper(resp(w), structure) for w in freqs]
-            betas = np.array([u.beta for u in ups])
+            target = (1 + bb_rtol) * lower.gain
+            ups = [_upper(resp(w), structure, target, bb_max_solves) for w in freqs]
+            betas = np.array([u[0] for u in ups])
             k = int(np.argmax(betas))
             # second pass of the lower bound around the upper bound's frequency: the worst Delta moves a lightly damped
             # mode onto that frequency, a narrow ridge in (delta, w) that the first pass may have missed
@@ -174,11 +185,12 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
             if near.gain > lower.gain:
                 lower = near
                 if not np.any(np.isclose(freqs, near.omega, rtol=1e-12, atol=0)):  # the upper bound at the new frequency too
-                    freqs, ups = np.r_[freqs, near.omega], ups + [_upper(resp(near.omega), structure)]
+                    freqs = np.r_[freqs, near.omega]
+                    ups = ups + [_upper(resp(near.omega), structure, (1 + bb_rtol) * lower.gain, bb_max_solves)]
                     order = np.argsort(freqs)
                     freqs, ups = freqs[order], [ups[i] for i in order]
-                    betas = np.array([u.beta for u in ups])
+                    betas = np.array([u[0] for u in ups])
                     k = int(np.argmax(betas))
             out[group] = AngleBounds(float(np.rad2deg(theta)), float(betas[k]), lower.gain, float(freqs[k]), lower.omega,
-                                     dict(zip(names, map(float, lower.deltas))), len(freqs), [u.status for u in ups], freqs, betas)
+                                     dict(zip(names, map(float, lower.deltas))), len(freqs), [u[1] for u in ups], freqs, betas)
     return out

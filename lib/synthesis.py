@@ -175,26 +175,6 @@ def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> N
     return np.linalg.svd(h, compute_uv=False)[:, 0]
 
 
-def _golden(fun, lo: float, hi: float, tol: float = 1e-9, max_iter: int = 80) -> tuple[float, float]:
-    """Maximise a unimodal ``fun(log w)`` on ``[lo, hi]`` by golden-section search; returns ``(value, log w)``."""
-    g = (np.sqrt(5) - 1) / 2
-    a, b = lo, hi
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = fun(c), fun(d)
-    for _ in range(max_iter):
-        if b - a < tol:
-            break
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = fun(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = fun(d)
-    return (fc, c) if fc > fd else (fd, d)
-
-
 def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[float, float] = (1e-2, 3e3), n_log: int = 120,
                n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS, min_damping: float = 0.0) -> LoopPeaks:
     """Peaks of ``sigma_max(T_{p~ -> group}(jw))`` of the closed loop, on a peak-aware grid, refined.

@@ -228,3 +228,34 @@ def test_timing_application_size(n_e):
     assert all(s.startswith("optimal") for s in sweep.statuses) and np.all(np.isfinite(sweep.betas))
     assert lb.gain <= ub_star.beta * (1 + 1e-9)
     assert t_per < 0.5  # target 0.1 s; loose against slow CI machines
+
+
+def test_recentre_maps_a_sub_box_to_the_unit_box():
+    rng = np.random.default_rng(11)
+    sizes = (1, 3, 2)
+    m = rng.normal(size=(8, 7)) + 1j * rng.normal(size=(8, 7))
+    m[:6, :6] *= 0.9 / np.linalg.norm(m[:6, :6], 2)
+    centre, radius = np.array([0.5, -0.25, 0.0]), np.array([0.5, 0.25, 1.0])
+    dp = rng.uniform(-1, 1, (20, 3))
+    np.testing.assert_allclose(mu.lft_upper(mu.recentre(m, sizes, centre, radius), sizes, dp),
+                               mu.lft_upper(m, sizes, centre + radius * dp), rtol=1e-10, atol=1e-12)
+    with pytest.raises(ValueError, match="radius"):
+        mu.recentre(m, sizes, centre, [0.6, 0.25, 1.0])  # outside the box
+
+
+@pytest.mark.parametrize("seed", [1, 5])
+def test_branch_and_bound_closes_the_gap_of_the_whole_box_bound(seed):
+    """Unstructured complex data on which the D-G bound over the whole box is 1.5-6 % above the brute-force maximum:
+    branch and bound over the box brings it to the brute-force value (41 x 41 grid) and never below it."""
+    rng = np.random.default_rng(seed)
+    sizes, n = (1, 2), 3
+    m = rng.normal(size=(n + 1, n + 1)) + 1j * rng.normal(size=(n + 1, n + 1))
+    m[:n, :n] *= 0.9 / np.linalg.norm(m[:n, :n], 2)
+    whole, bf = mu.wc_gain_upper(m, sizes).beta, brute(m, sizes, 41)
+    bb = mu.wc_gain_upper_bb(m, sizes, rtol=0.01, max_solves=200)
+    assert whole > 1.01 * bf  # the case is one where the whole-box bound is conservative
+    assert bf * (1 - 1e-9) <= bb.beta <= whole * (1 + 1e-9)
+    assert bb.beta <= bf * (1 + 1e-3)
+    assert bb.lower <= bf * (1 + 1e-9)  # achieved gains at the leaf centres
+    stopped = mu.wc_gain_upper_bb(m, sizes, target=whole * 1.001)
+    assert stopped.solves == 1 and stopped.status == "converged"
