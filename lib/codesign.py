@@ -23,13 +23,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import spacecraft
 from .closedloop import LoopSettings
+from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "local_client"]
+__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "local_client"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
 TARGET_JC = 0.9
 PENALTY = 10.0
 JC_LIMIT = 2.0
+# Stopping rule of the synthesis inside the co-design: less than 1 % decrease of J over 5 accepted steps (the
+# synthesis default is 0.2 %). J_c enters f^n through |0.9 - J_c| with J_c of a few 1e-2, so the looser rule moves
+# f^n by well under 1 % (measured in notebook 07) while it cuts the iterations several times.
+SYNTHESIS_OPTIONS = {"tol": 1e-2}
 
 
 def objective_value(mass: float, j_c: float, m0: float) -> float:
@@ -55,7 +60,8 @@ def truss_mass_from_dc(models, params: dict | None = None) -> float:
 
 
 def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
-                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None) -> dict:
+                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None,
+                      scenarios0: Sequence[Sequence[float]] | None = None) -> dict:
     """One objective evaluation (Steps 1-4 for one particle); never raises.
 
     Parameters
@@ -71,21 +77,26 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     fail : bool
         Raise inside the evaluation (to test that a failure is penalised and logged, not fatal).
     synthesis_options : dict, optional
-        Passed to :func:`lib.design.robust_design`.
+        Passed to :func:`lib.design.robust_design` (default :data:`SYNTHESIS_OPTIONS`).
+    scenarios0 : sequence of 4-vectors, optional
+        Initial scenario set of the synthesis, normalised ``(d_mass, d_iyy, d_omega1, theta)`` (default: the
+        21 of :func:`lib.synthesis.default_scenarios`); the warm start passes the set the best particle ended with,
+        so that the scenarios its worst-case searches found are there from the start.
 
     Returns
     -------
     dict
         ``h``, ``f``, ``J_c``, ``Z_c``, ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
         (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
-        ``t_model`` (= ``t_build`` + ``t_reduction``), ``t_synthesis`` [s].
+        ``t_model`` (= ``t_build`` + ``t_reduction``), ``t_synthesis`` [s], ``scenarios`` (the final set, as
+        4-vectors, or None).
     """
     from threadpoolctl import threadpool_limits
 
     from . import design
 
     t0 = time.perf_counter()
-    out = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
+    out = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
            "t_synthesis": 0.0}
     p = params or spacecraft.load_parameters()
     out["mass_check"] = spacecraft.truss_mass(float(h), p)
@@ -99,9 +110,12 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
             out["mass"] = truss_mass_from_dc(models, p)
             t1 = time.perf_counter()
-            res = design.robust_design(models, settings, gain0=gain0, workers=1, **(synthesis_options or {}))
+            scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
+            opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
+            res = design.robust_design(models, settings, gain0=gain0, scenarios=scen, workers=1, **opts)
             out["t_synthesis"] = time.perf_counter() - t1
-        out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations)
+        out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations,
+                   scenarios=[sc.vector().tolist() for sc in res.scenarios])
         out["status"] = "ok" if res.success else f"failed: {res.message}"
         if not res.success:
             out["J_c"] = np.inf
@@ -136,39 +150,44 @@ def local_client(n_workers: int | None = None, scheduler: str | None = None):
 
 def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
                    params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
-                   retries: int = 2, synthesis_options: dict | None = None) -> list[dict]:
+                   retries: int = 2, synthesis_options: dict | None = None,
+                   scenarios0: Sequence[Sequence[float]] | None = None) -> list[dict]:
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
 
     A worker that dies is retried (``retries`` times) by Dask; the results do not depend on the number of
-    workers (each evaluation is deterministic and single-threaded). ``fail_particles`` injects failures (tests).
+    workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
+    a bound of the range) share one evaluation: with the same warm start the result is the same.
+    ``fail_particles`` injects failures (tests).
     """
     from tqdm.auto import tqdm
 
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
-    kw = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options)
-    bar = tqdm(total=len(hs), desc="particles", disable=not progress, leave=False)
+    kw = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
+    keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
+    unique = list(dict.fromkeys(keys))
+    bar = tqdm(total=len(unique), desc="particles", disable=not progress, leave=False)
     if client is None:
-        out = []
-        for i, h in enumerate(hs):
-            out.append(evaluate_particle(h, gain0, fail=i in fail_particles, **kw))
+        done = []
+        for h, fail in unique:
+            done.append(evaluate_particle(h, gain0, fail=fail, **kw))
             bar.update()
-        bar.close()
-        return out
-    from dask.distributed import as_completed
+    else:
+        from dask.distributed import as_completed
 
-    futures = [client.submit(evaluate_particle, float(h), gain0, fail=i in fail_particles, pure=False, retries=retries, **kw)
-               for i, h in enumerate(hs)]
-    for _ in as_completed(futures):
-        bar.update()
+        futures = [client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, retries=retries, **kw) for h, fail in unique]
+        for _ in as_completed(futures):
+            bar.update()
+        done = client.gather(futures)
     bar.close()
-    return client.gather(futures)
-
+    first = {k: i for i, k in reversed(list(enumerate(keys)))}
+    results = dict(zip(unique, done))
+    return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
 
 
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
                  client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
                  m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
-                 stop_after: int | None = None, log=print):
+                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None):
     """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
 
     Parameters
@@ -189,6 +208,8 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         Stop after this many iterations (tests of the resume).
     log : callable
         Receives the one-line summary of each iteration.
+    synthesis_options : dict, optional
+        Passed to the synthesis of every particle (default :data:`SYNTHESIS_OPTIONS`).
 
     Returns
     -------
@@ -200,11 +221,12 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     def evaluate(x: NDArray, state) -> list[dict]:
         gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
         fails = [p for it, p in fail_particles if it == state.iteration]
-        recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress)
+        recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
+                              synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"))
         ok = [r for r in recs if r["gain"] is not None]
         if ok:
             best = min(ok, key=lambda r: r["f"])
-            state.extra["best_gain"] = best["gain"]
+            state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
         return recs
 
     def summary(state) -> None:

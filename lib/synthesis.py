@@ -11,7 +11,7 @@ multi-model structured H-infinity synthesis):
   grown by a worst-case search over the whole parameter box (dynamic sampling);
 * **peaks**: for each scenario the closed loop is put in modal form; its largest singular value is
   evaluated on a peak-aware grid (log points plus every lightly damped closed-loop pole frequency) and
-  each local maximum is refined by golden-section search; the peak is checked by a direct solve;
+  each local maximum is refined by nested grids in log frequency; the peak is checked by a direct solve;
 * **nonsmooth step**: every peak within a band of the current maximum is linearised (gradient from the
   singular vectors at the peak frequency, exact for a static gain) and a trust-region linear program
   (HiGHS) minimises the largest linearised RPE peak while keeping the linearised effort peaks below
@@ -105,10 +105,15 @@ def default_scenarios(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0, 180
     return out
 
 
+def _n_workers(n: int | None) -> int:
+    """Worker threads: ``n``, or up to 2 (the cores of the reference machine)."""
+    return max(1, min(os.cpu_count() or 1, 2) if n is None else int(n))
+
+
 @contextmanager
 def _workers(n: int | None):
     """A thread pool (LAPACK releases the GIL) with one BLAS thread per worker: no oversubscription."""
-    n = max(1, min(os.cpu_count() or 1, 2) if n is None else int(n))
+    n = _n_workers(n)
     with threadpool_limits(1), ThreadPoolExecutor(n) as pool:
         yield pool.map
 
@@ -147,24 +152,21 @@ class LoopPeaks:
         return self.peaks[group][0][1]
 
 
-def _golden(fun, lo: float, hi: float, tol: float = 1e-9, max_iter: int = 80) -> tuple[float, float]:
-    """Maximise a unimodal ``fun(log w)`` on ``[lo, hi]`` by golden-section search; returns ``(value, log w)``."""
-    g = (np.sqrt(5) - 1) / 2
-    a, b = lo, hi
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = fun(c), fun(d)
-    for _ in range(max_iter):
-        if b - a < tol:
-            break
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = fun(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = fun(d)
-    return (fc, c) if fc > fd else (fd, d)
+def _zoom_max(fun: Callable[[NDArray], NDArray], lo: float, hi: float, n: int = 17, zooms: int = 5) -> tuple[float, float]:
+    """Maximise ``fun(log w)`` (vectorised) on ``[lo, hi]`` by nested grids: ``n`` points, then ``n`` points on the two
+    intervals around the best, ``zooms`` times (the bracket shrinks ``(n - 1) / 2`` times per zoom: 8^5 = 3e4 here,
+    so a peak bracketed by its half-power points is located to 3e-5 of its bandwidth and its value to 1e-9).
+    Returns ``(value, log w)``; five vectorised calls instead of the ~50 scalar calls of a golden-section search."""
+    best_v, best_x = -np.inf, lo
+    for _ in range(zooms):
+        x = np.linspace(lo, hi, n)
+        v = fun(x)
+        i = int(np.argmax(v))
+        if v[i] > best_v:
+            best_v, best_x = float(v[i]), float(x[i])
+        step = x[1] - x[0]
+        lo, hi = max(lo, best_x - step), min(hi, best_x + step)
+    return best_v, best_x
 
 
 def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> NDArray:
@@ -191,7 +193,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         Log-spaced points, to which every closed-loop pole frequency with damping below 0.3 is added
         (with points at ``w_d (1 +- zeta)``), so that no lightly damped peak is missed.
     n_peaks : int
-        Local maxima kept per group (each refined by golden-section search in log frequency).
+        Local maxima kept per group (each refined by nested grids in log frequency).
     min_decay : float
         Stability margin: all poles must have real part below ``-min_decay`` [1/s].
     min_damping : float
@@ -228,8 +230,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         peaks = []
         for i in cand:
             if 0 < i < grid.size - 1 and s[i] >= 0.5 * s[cand[0]]:  # refine the peaks that can matter
-                val, lw = _golden(lambda x: float(_sv_max(cv, lam, vb, dg, np.array([np.exp(x)]))[0]),
-                                  np.log(grid[i - 1]), np.log(grid[i + 1]))
+                val, lw = _zoom_max(lambda x: _sv_max(cv, lam, vb, dg, np.exp(x)), np.log(grid[i - 1]), np.log(grid[i + 1]))
                 peaks.append((max(val, float(s[i])), float(np.exp(lw)) if val >= s[i] else float(grid[i])))
             else:
                 peaks.append((float(s[i]), float(grid[i])))
@@ -431,10 +432,29 @@ class _State:
 
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0,
-              min_damping_all: float = 0.0) -> _State:
+              min_damping_all: float = 0.0, reject: Callable[[LoopPeaks], bool] | None = None,
+              order: Sequence[int] | None = None, chunk: int = 1) -> _State | None:
     """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
-    plants (skipped for a step that is rejected anyway)."""
-    peaks = list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay, min_damping=min_damping_all), plants))
+    plants (skipped for a step that is rejected anyway).
+
+    With ``reject``, the plants are evaluated in ``order``, ``chunk`` at a time, and the evaluation stops (returns
+    None) as soon as one plant's peaks show that the step is rejected whatever the others give: a trial step then
+    costs one or two plants instead of all. The decision is the same as after a full evaluation.
+    """
+    def peaks_of(p: GeneralizedPlant) -> LoopPeaks:
+        return loop_peaks(p, gain, min_decay=min_decay, min_damping=min_damping_all)
+
+    if reject is None:
+        peaks = list(pmap(peaks_of, plants))
+    else:
+        order = list(range(len(plants))) if order is None else list(order)
+        found: dict[int, LoopPeaks] = {}
+        for start in range(0, len(order), chunk):
+            idx = order[start:start + chunk]
+            found.update(zip(idx, pmap(lambda i: peaks_of(plants[i]), idx)))
+            if any(reject(found[i]) for i in idx):
+                return None
+        peaks = [found[i] for i in range(len(plants))]
     state = _State(gain, peaks, [None] * len(checks), min_decay)
     if all(p.stable for p in peaks):
         state.extra = list(pmap(lambda p: _eigen(p, gain, min_damping, omega_check), checks))
@@ -523,7 +543,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     with _workers(workers) as pmap:
         prob = _Problem(list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen)), list(stability_models), pmap,
                         min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
-                        min_damping_all)
+                        min_damping_all, chunk=_n_workers(workers))
         for round_ in range(max_rounds):
             state = _stabilise(prob, prob.evaluate(gain))
             if not state.stable():
@@ -555,6 +575,18 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                            prob.evaluations, prob.history)
 
 
+class _Counter:
+    """``pmap`` that counts the calls it makes."""
+
+    def __init__(self, pmap: Callable):
+        self.pmap, self.calls = pmap, 0
+
+    def __call__(self, fun: Callable, items) -> list:
+        items = list(items)
+        self.calls += len(items)
+        return list(self.pmap(fun, items))
+
+
 @dataclass
 class _Problem:
     """The data of one synthesis: scenario plants, stability-only plants, options and counters."""
@@ -573,14 +605,24 @@ class _Problem:
     min_damping: float = 0.0
     omega_check: float = 0.0
     min_damping_all: float = 0.0
+    chunk: int = 1
     iterations: int = 0
     evaluations: int = 0
     history: list[dict] = field(default_factory=list)
 
-    def evaluate(self, gain: NDArray) -> _State:
-        self.evaluations += len(self.plants)
-        return _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check,
-                         self.min_damping_all)
+    def evaluate(self, gain: NDArray, reject: Callable[[LoopPeaks], bool] | None = None,
+                 current: _State | None = None) -> _State | None:
+        """All plants at ``gain``; with ``reject``, the most active plants of ``current`` first and None as soon as
+        one of them rejects the step (see :func:`_evaluate`)."""
+        order = None
+        if reject is not None and current is not None:
+            scale = {g: max(current.value(g), 1e-300) for g in GROUPS}
+            order = np.argsort([-max(lp.norm(g) / scale[g] for g in GROUPS) for lp in current.peaks], kind="stable")
+        counter = _Counter(self.pmap)
+        state = _evaluate(self.plants, gain, self.min_decay, counter, self.checks, self.min_damping, self.omega_check,
+                          self.min_damping_all, reject, order, self.chunk)
+        self.evaluations += counter.calls - (sum(x is not None for x in state.extra) if state is not None else 0)
+        return state
 
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
         """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
@@ -648,9 +690,16 @@ def _optimise(prob: _Problem, state: _State) -> _State:
                 break
             radius = radius / 4
             continue
-        trial = prob.evaluate(state.gain + d.reshape(4, 8))
-        new = trial.value("rpe") if feasible else trial.value("effort")
-        ok = trial.stable() and (trial.value("effort") < gamma if feasible else True)
+        worst_new = current - 0.1 * (current - t)  # a step whose objective ends above this is rejected (ratio <= 0.1)
+        if feasible:
+            def reject(lp: LoopPeaks) -> bool:
+                return not lp.stable or lp.norm("effort") >= gamma or lp.norm("rpe") >= worst_new
+        else:
+            def reject(lp: LoopPeaks) -> bool:
+                return not lp.stable or lp.norm("effort") >= worst_new
+        trial = prob.evaluate(state.gain + d.reshape(4, 8), reject, state)
+        ok = trial is not None and trial.stable() and (trial.value("effort") < gamma if feasible else True)
+        new = (trial.value("rpe") if feasible else trial.value("effort")) if ok else np.inf
         ratio = (current - new) / (current - t) if ok else -1.0
         if ok and ratio > 0.1:
             state = trial

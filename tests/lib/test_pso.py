@@ -85,3 +85,19 @@ def test_objective_and_failures():
     state = pso.run(evaluate, n=4, lower=[0.0], upper=[1.0], iterations=3, seed=0)
     assert state.iteration == 3 and sum(r.get("status", "") == "failed: injected" for r in state.history) == 3
     assert np.isfinite(state.g_f)
+
+
+def test_particles_at_the_same_h_share_one_evaluation(monkeypatch):
+    calls = []
+
+    def fake(h, gain0=None, fail=False, **kw):
+        calls.append((h, fail))
+        return {"h": h, "f": h + fail, "gain": None, "scenarios": kw.get("scenarios0")}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    out = codesign.evaluate_swarm([0.015, 0.02, 0.015, 0.015], None, fail_particles=[3], progress=False,
+                                  scenarios0=[[0.0, 0.0, 0.0, 1.0]])
+    assert calls == [(0.015, False), (0.02, False), (0.015, True)]  # a particle with an injected failure is not shared
+    assert [r["f"] for r in out] == [0.015, 0.02, 0.015, 1.015]
+    assert out[2]["shared_with"] == 0 and "shared_with" not in out[0] and "shared_with" not in out[3]
+    assert out[1]["scenarios"] == [[0.0, 0.0, 0.0, 1.0]]  # the warm-start scenario set reaches the evaluation
