@@ -214,11 +214,14 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     Returns
     -------
     lib.pso.SwarmState
-        With ``history`` (every particle: h, f, J_c, Z_c, mass, status, gain, times) and ``extra["best_gain"]``.
+        With ``history`` (every particle: h, f, J_c, Z_c, mass, status, gain, times; ``shared_with`` when it shared
+        the evaluation of an earlier particle at the same h) and ``extra``: ``best_gain``, ``best_scenarios`` (the
+        warm start of the next iteration) and ``iteration_wall_s`` (wall time of each iteration [s]).
     """
     from . import pso
 
     def evaluate(x: NDArray, state) -> list[dict]:
+        t0 = time.perf_counter()
         gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
         fails = [p for it, p in fail_particles if it == state.iteration]
         recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
@@ -227,6 +230,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         if ok:
             best = min(ok, key=lambda r: r["f"])
             state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
+        state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [time.perf_counter() - t0]
         return recs
 
     def summary(state) -> None:
