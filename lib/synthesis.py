@@ -114,6 +114,10 @@ def _n_workers(n: int | None) -> int:
 def _workers(n: int | None):
     """A thread pool (LAPACK releases the GIL) with one BLAS thread per worker: no oversubscription."""
     n = _n_workers(n)
+    if n == 1:  # in this thread: no pool overhead, and profilers see the work
+        with threadpool_limits(1):
+            yield map
+        return
     with threadpool_limits(1), ThreadPoolExecutor(n) as pool:
         yield pool.map
 

@@ -45,7 +45,7 @@ def test_peak_gradient_against_finite_differences(plant, group):
 
 
 def test_peaks_against_exact_norms(plant):
-    """Peak-aware grid + golden refinement = Hamiltonian norm = SLICOT ab13dd (to 1e-4 at worst, as required)."""
+    """Peak-aware grid + nested-grid refinement = Hamiltonian norm = SLICOT ab13dd (to 1e-4 at worst, as required)."""
     lp = synthesis.loop_peaks(plant, GAIN)
     exact = synthesis.exact_norms(plant, GAIN)
     a, b, c, d = plant.closed_loop(GAIN)
