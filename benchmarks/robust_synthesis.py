@@ -4,7 +4,8 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
 
 * model build at one h: G_r and G_r_low from one assembly;
 * one robust synthesis from all gains at -1 (the paper's cold start) at h = 2.139 cm;
-* one synthesis warm-started from the gain of a nearby h (2.0 cm -> 2.139 cm), as in the co-design;
+* one synthesis warm-started from the gain of a nearby h (2.0 cm -> 2.139 cm), and one warm-started from its gain and
+  its final scenario set, with the co-design's stopping tolerance (as notebook 07 does);
 * the mu analysis (both transfers) at ``--n-tau`` panel angles, per angle (notebook 08 runs 50).
 
 Prints the timings and saves them to benchmarks/results/robust_synthesis.json.
@@ -44,6 +45,12 @@ def main() -> None:
     warm = design.robust_design(m, settings, gain0=near.gain)
     out["warm_from_h_2.0cm"] = dict(time_s=warm.time_s, iterations=warm.iterations, evaluations=warm.evaluations, J_c=warm.j_c,
                                     Z_c=warm.z_c, success=warm.success, scenarios=len(warm.scenarios))
+    from lib import codesign
+
+    co = design.robust_design(m, settings, gain0=near.gain, scenarios=near.scenarios, **codesign.SYNTHESIS_OPTIONS)
+    out["warm_from_h_2.0cm_with_scenarios_codesign_tol"] = dict(time_s=co.time_s, iterations=co.iterations,
+                                                                evaluations=co.evaluations, J_c=co.j_c, Z_c=co.z_c,
+                                                                success=co.success, scenarios=len(co.scenarios))
     taus = np.linspace(0.0, 1.0, args.n_tau)
     t0 = time.perf_counter()
     gaps = []
