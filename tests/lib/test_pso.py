@@ -101,3 +101,14 @@ def test_particles_at_the_same_h_share_one_evaluation(monkeypatch):
     assert [r["f"] for r in out] == [0.015, 0.02, 0.015, 1.015]
     assert out[2]["shared_with"] == 0 and "shared_with" not in out[0] and "shared_with" not in out[3]
     assert out[1]["scenarios"] == [[0.0, 0.0, 0.0, 1.0]]  # the warm-start scenario set reaches the evaluation
+
+
+def test_checkpoint_keeps_non_finite_values(tmp_path):
+    def evaluate(x, state):
+        return [{"f": np.inf if i == 0 else float(xi[0]), "J_c": np.inf if i == 0 else 0.1} for i, xi in enumerate(x)]
+
+    ck = tmp_path / "state.json"
+    a = pso.run(evaluate, n=3, lower=[0.0], upper=[1.0], iterations=2, seed=0, checkpoint=ck)
+    b = pso.load_state(ck)
+    assert b.history[0]["J_c"] == np.inf and isinstance(b.history[0]["J_c"], float)
+    assert b.history == a.history
