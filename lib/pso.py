@@ -170,20 +170,10 @@ def save_state(state: SwarmState, path: str | Path) -> Path:
     return path
 
 
-_NON_FINITE = {"inf": np.inf, "-inf": -np.inf, "nan": np.nan}  # how :func:`lib.results.to_jsonable` writes them
-
-
-def _restore(obj):
-    """Non-finite floats written as strings by ``to_jsonable`` back to floats (in nested dicts and lists)."""
-    if isinstance(obj, dict):
-        return {k: _restore(v) for k, v in obj.items()}
-    if isinstance(obj, list):
-        return [_restore(v) for v in obj]
-    return _NON_FINITE.get(obj, obj) if isinstance(obj, str) else obj
-
-
 def load_state(path: str | Path) -> SwarmState:
     """Read a state written by :func:`save_state` (non-finite values in the history restored as floats)."""
+    from .results import from_jsonable
+
     d = json.loads(Path(path).read_text())
     arr = lambda k: np.array(d[k], dtype=float)  # noqa: E731
     p_f = np.array([np.inf if v is None else v for v in d["p_f"]], dtype=float)
@@ -191,7 +181,7 @@ def load_state(path: str | Path) -> SwarmState:
     rng["state"] = {k: int(v) for k, v in rng["state"].items()}
     return SwarmState(int(d["iteration"]), arr("x"), arr("v"), arr("p"), p_f, arr("g"), np.inf if d["g_f"] is None else float(d["g_f"]),
                       float(d["inertia"]), int(d["counter"]), int(d["neighbours"]), rng, arr("lower"), arr("upper"), int(d["seed"]),
-                      _restore(d["history"]), _restore(d["extra"]))
+                      from_jsonable(d["history"]), from_jsonable(d["extra"]))
 
 
 def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Sequence[float], upper: Sequence[float],

@@ -12,7 +12,7 @@ import numpy as np
 from . import __version__
 from .paths import resolve
 
-__all__ = ["to_jsonable", "save_results", "load_results"]
+__all__ = ["to_jsonable", "from_jsonable", "save_results", "load_results"]
 
 
 def to_jsonable(value: Any) -> Any:
@@ -32,6 +32,19 @@ def to_jsonable(value: Any) -> Any:
     if isinstance(value, complex):
         return {"re": value.real, "im": value.imag}
     return value
+
+
+_NON_FINITE = {"inf": np.inf, "-inf": -np.inf, "nan": np.nan}  # how :func:`to_jsonable` writes non-finite floats
+
+
+def from_jsonable(value: Any) -> Any:
+    """Undo :func:`to_jsonable` for non-finite floats (the strings ``"inf"``, ``"-inf"``, ``"nan"``, in nested
+    dicts and lists); everything else is returned as read."""
+    if isinstance(value, dict):
+        return {k: from_jsonable(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [from_jsonable(v) for v in value]
+    return _NON_FINITE.get(value, value) if isinstance(value, str) else value
 
 
 def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "data/results",

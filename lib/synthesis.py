@@ -437,9 +437,9 @@ class _State:
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0,
               min_damping_all: float = 0.0, reject: Callable[[LoopPeaks], bool] | None = None,
-              order: Sequence[int] | None = None, chunk: int = 1) -> _State | None:
+              order: Sequence[int] | None = None, chunk: int = 1) -> tuple[_State | None, int]:
     """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
-    plants (skipped for a step that is rejected anyway).
+    plants (skipped for a step that is rejected anyway). Returns the state and the number of plants evaluated.
 
     With ``reject``, the plants are evaluated in ``order``, ``chunk`` at a time, and the evaluation stops (returns
     None) as soon as one plant's peaks show that the step is rejected whatever the others give: a trial step then
@@ -457,12 +457,12 @@ def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, p
             idx = order[start:start + chunk]
             found.update(zip(idx, pmap(lambda i: peaks_of(plants[i]), idx)))
             if any(reject(found[i]) for i in idx):
-                return None
+                return None, len(found)
         peaks = [found[i] for i in range(len(plants))]
     state = _State(gain, peaks, [None] * len(checks), min_decay)
     if all(p.stable for p in peaks):
         state.extra = list(pmap(lambda p: _eigen(p, gain, min_damping, omega_check), checks))
-    return state
+    return state, len(peaks)
 
 
 def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[float, NDArray]]:
@@ -579,18 +579,6 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                            prob.evaluations, prob.history)
 
 
-class _Counter:
-    """``pmap`` that counts the calls it makes."""
-
-    def __init__(self, pmap: Callable):
-        self.pmap, self.calls = pmap, 0
-
-    def __call__(self, fun: Callable, items) -> list:
-        items = list(items)
-        self.calls += len(items)
-        return list(self.pmap(fun, items))
-
-
 @dataclass
 class _Problem:
     """The data of one synthesis: scenario plants, stability-only plants, options and counters."""
@@ -622,10 +610,9 @@ class _Problem:
         if reject is not None and current is not None:
             scale = {g: max(current.value(g), 1e-300) for g in GROUPS}
             order = np.argsort([-max(lp.norm(g) / scale[g] for g in GROUPS) for lp in current.peaks], kind="stable")
-        counter = _Counter(self.pmap)
-        state = _evaluate(self.plants, gain, self.min_decay, counter, self.checks, self.min_damping, self.omega_check,
-                          self.min_damping_all, reject, order, self.chunk)
-        self.evaluations += counter.calls - (sum(x is not None for x in state.extra) if state is not None else 0)
+        state, n = _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check,
+                             self.min_damping_all, reject, order, self.chunk)
+        self.evaluations += n
         return state
 
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
