@@ -246,7 +246,8 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     rank_rtol : float
         Singular values of ``G_0`` below ``rank_rtol`` times the largest are treated as zero.
     min_pole : float
-        Smallest accepted pole modulus of A [rad/s].
+        Smallest accepted pole modulus of A [rad/s]; 0 skips the check (an eigenvalue computation), for callers
+        that build many plants from one checked model.
 
     Raises
     ------
@@ -262,8 +263,8 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     if d.shape != (nd + len(OUTPUTS), nd + len(INPUTS)) or a.shape[0] != b.shape[0] or c.shape[1] != a.shape[0]:
         raise ValueError(f"the open-loop model must have {nd} + {len(INPUTS)} inputs and {nd} + {len(OUTPUTS)} outputs, got D {d.shape}")
     n = a.shape[0]
-    lam = np.linalg.eigvals(a) if n else np.zeros(0)
-    if n and np.min(np.abs(lam)) < min_pole:
+    lam = np.linalg.eigvals(a) if n and min_pole > 0 else np.zeros(0)
+    if lam.size and np.min(np.abs(lam)) < min_pole:
         raise ValueError(f"A has a pole at |s| = {np.min(np.abs(lam)):.1e} rad/s < min_pole = {min_pole:g}: remove the spurious "
                          "slow poles first (lib.reduction.modal_reduction)")
     transmitted = settings.effort == "transmitted"

@@ -17,11 +17,12 @@ from __future__ import annotations
 import time
 import traceback
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import spacecraft
+from . import spacecraft, synthesis
 from .closedloop import LoopSettings
 from .synthesis import Scenario
 
@@ -220,8 +221,15 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     """
     from . import pso
 
+    if checkpoint is not None and Path(checkpoint).exists():
+        found = pso.load_state(checkpoint).extra.get("algorithm")
+        if found != synthesis.ALGORITHM:
+            raise ValueError(f"checkpoint {checkpoint} was computed by the synthesis {found!r}, not the current "
+                             f"{synthesis.ALGORITHM!r}: delete it (or pass another checkpoint path) to rerun")
+
     def evaluate(x: NDArray, state) -> list[dict]:
         t0 = time.perf_counter()
+        state.extra["algorithm"] = synthesis.ALGORITHM
         gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
         fails = [p for it, p in fail_particles if it == state.iteration]
         recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,

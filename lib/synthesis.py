@@ -42,10 +42,14 @@ from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from .lft import LFT
 
-__all__ = ["Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
+__all__ = ["ALGORITHM", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
            "plant_at", "default_scenarios", "exact_norms", "sigma_curve"]
 
 GROUPS = ("rpe", "effort")
+# Version of the optimiser: stored with cached results (co-design grid, swarm checkpoints) so that results of an
+# earlier version are never mixed with new ones. 2: elastic effort constraint, margin gradients with the |lambda|
+# term, stability constraints with a back-off (the version-1 optimiser stalled on constraint boundaries).
+ALGORITHM = "trust-region SLP v2"
 
 
 @dataclass(frozen=True)
@@ -123,10 +127,13 @@ def _workers(n: int | None):
 
 
 def plant_at(model: LFT, scenario: Scenario, inertia_p1: ArrayLike, settings: LoopSettings, keep: Sequence[str] = ()) -> GeneralizedPlant:
-    """Generalized plant at a scenario; the parameters in ``keep`` stay as open Delta channels."""
+    """Generalized plant at a scenario; the parameters in ``keep`` stay as open Delta channels.
+
+    The pole check of :func:`lib.closedloop.generalized_plant` is skipped here: ``model`` comes from a modal
+    reduction that removed the slow poles, and the worst-case search builds thousands of plants from it."""
     values = {k: v for k, v in scenario.normalized().items() if k not in keep}
     sub = model.substitute(values, normalized=True)
-    return generalized_plant(sub.a, sub.b, sub.c, sub.d, inertia_p1, settings, n_delta=sub.n_delta)
+    return generalized_plant(sub.a, sub.b, sub.c, sub.d, inertia_p1, settings, n_delta=sub.n_delta, min_pole=0.0)
 
 
 # ----------------------------------------------------------------------------- peaks of the closed loop
@@ -284,15 +291,24 @@ class _Eigen:
     def margin(self) -> float:
         return float(self.value.max())
 
-    def rows(self, n: int) -> list[tuple[float, NDArray]]:
-        """Margins of the ``n`` poles closest to violating theirs, with gradients in K (``|lambda|`` held fixed):
-        ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w`` with ``w^H v = 1``."""
-        order = np.argsort(-self.value / np.maximum(np.abs(self.lam), 1e-300))[:n]
+    def rows(self, n: int) -> list[tuple[float, NDArray, float]]:
+        """Margins of the ``n`` poles closest to violating theirs, with gradients in K and ``zeta_req |lambda|``:
+        ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w`` with ``w^H v = 1``, and
+        ``d margin = Re d lambda + zeta_req Re(conj(lambda) d lambda) / |lambda|`` (the ``|lambda|`` term matters for
+        the high-frequency modes: at 4e3 rad/s and zeta_req 5e-4 it is as large as the real-part change)."""
+        mag = np.maximum(np.abs(self.lam), 1e-300)
+        order = np.argsort(-self.value / mag)[:n]
         lu = linalg.lu_factor(self.vr.T)  # left eigenvectors: rows of V^-1, i.e. solutions of V^T x = e_i
         e = np.zeros((self.vr.shape[0], order.size))
         e[order, np.arange(order.size)] = 1.0
         vl = linalg.lu_solve(lu, e).T
-        return [(float(self.value[i]), np.real(np.outer(vl[k] @ self.b_v, self.c_y @ self.vr[:, i]))) for k, i in enumerate(order)]
+        zeta_req = (self.value - self.lam.real) / mag
+        out = []
+        for k, i in enumerate(order):
+            d_lam = np.outer(vl[k] @ self.b_v, self.c_y @ self.vr[:, i])
+            out.append((float(self.value[i]), np.real(d_lam) + zeta_req[i] * np.real(np.conj(self.lam[i]) / mag[i] * d_lam),
+                        float(zeta_req[i] * mag[i])))
+        return out
 
 
 def _eigen(plant: GeneralizedPlant, gain: NDArray, min_damping: float = 0.0, omega_check: float = 0.0) -> _Eigen:
@@ -477,14 +493,19 @@ def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[flo
     return rows
 
 
-def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, NDArray, float]], radius: NDArray):
-    """Trust-region LP: ``min t`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound_k``, ``|d| <= radius``."""
+def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, NDArray, float]], radius: NDArray,
+        soft: list[tuple[float, NDArray, float]] = (), penalty: float = 0.0):
+    """Trust-region LP: ``min t + penalty s`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound_k`` (hard),
+    ``c_l + h_l d <= bound_l + s`` (soft, elastic), ``s >= 0``, ``|d| <= radius``. Returns ``(d, t, s)``, or Nones
+    if the LP has no solution (the hard constraints cannot be met in the trust region)."""
     n = radius.size
-    a_ub = [np.r_[g, -1.0] for _, g in objective] + [np.r_[h.ravel(), 0.0] for _, h, _ in constraints]
-    b_ub = [-f for f, _ in objective] + [bound - c for c, _, bound in constraints]
-    res = linprog(np.r_[np.zeros(n), 1.0], A_ub=np.array(a_ub), b_ub=np.array(b_ub),
-                  bounds=[(-r, r) for r in radius] + [(None, None)], method="highs")
-    return (res.x[:n], res.x[n]) if res.status == 0 else (None, None)
+    a_ub = ([np.r_[g, -1.0, 0.0] for _, g in objective] + [np.r_[h.ravel(), 0.0, 0.0] for _, h, _ in constraints]
+            + [np.r_[h.ravel(), 0.0, -1.0] for _, h, _ in soft])
+    b_ub = [-f for f, _ in objective] + [bound - c for c, _, bound in constraints] + [bound - c for c, _, bound in soft]
+    s_max = None if soft else 0.0
+    res = linprog(np.r_[np.zeros(n), 1.0, penalty], A_ub=np.array(a_ub), b_ub=np.array(b_ub),
+                  bounds=[(-r, r) for r in radius] + [(None, None), (0.0, s_max)], method="highs")
+    return (res.x[:n], res.x[n], res.x[n + 1]) if res.status == 0 else (None, None, None)
 
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
@@ -616,11 +637,20 @@ class _Problem:
         return state
 
     def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
-        """Linearised ``Re lambda <= -min_decay`` for the least damped poles (stability plants; all plants if asked)."""
-        rows = [(v, g, -self.min_decay) for lp in state.peaks for v, g in lp.eigen.rows(6 if all_plants else 2)]
+        """Linearised margins of the least damped poles (stability plants; all plants if asked), each bounded by
+        halfway between its value and its target ``-min_decay - 0.01 zeta_req |lambda|``: a pole may close half its
+        distance to the target per step, and one inside the 1 % back-off is pulled back out. A constraint held on
+        its boundary (``value = -min_decay``) would be crossed at second order by every step along it."""
+        def rows(eig: _Eigen, n: int) -> list[tuple[float, NDArray, float]]:
+            out = []
+            for v, g, req in eig.rows(n):
+                out.append((v, g, 0.5 * (v - self.min_decay - 0.01 * req)))
+            return out
+
+        found = [r for lp in state.peaks for r in rows(lp.eigen, 6 if all_plants else 2)]
         state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check)
                        for x, p in zip(state.extra, self.checks)]
-        return rows + [(v, g, -self.min_decay) for x in state.extra for v, g in x.rows(8)]
+        return found + [r for x in state.extra for r in rows(x, 8)]
 
     def radius(self, gain: NDArray) -> NDArray:
         return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
@@ -633,7 +663,11 @@ def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin
         added.append(worst.scenario["rpe"])
     if worst.value["effort"] > max(state.value("effort") * (1 + tol), gamma * (1 - margin)):
         added.append(worst.scenario["effort"])
-    return added
+    unique: list[Scenario] = []
+    for sc in added:  # an unstable scenario is often also the worst J and Z (all inf): add it once
+        if not any(np.array_equal(sc.vector(), u.vector()) for u in unique):
+            unique.append(sc)
+    return unique
 
 
 def _stabilise(prob: _Problem, state: _State) -> _State:
@@ -644,7 +678,7 @@ def _stabilise(prob: _Problem, state: _State) -> _State:
             break
         prob.iterations += 1
         rows = [(v, g.ravel()) for v, g, _ in prob.stability_rows(state, all_plants=True)]
-        d, _ = _lp(rows, [], radius)
+        d, _, _ = _lp(rows, [], radius)
         if d is None:
             radius = radius / 4
             continue
@@ -657,41 +691,57 @@ def _stabilise(prob: _Problem, state: _State) -> _State:
     return state
 
 
+_PENALTY = 10.0  # weight of the effort excess (relative to gamma) against the relative J in the merit
+
+
 def _optimise(prob: _Problem, state: _State) -> _State:
     """Feasibility (Z < gamma), then min J s.t. Z < gamma and stability, by a trust-region sequential LP on the peaks."""
     radius = prob.radius(state.gain)
     accepted: list[float] = []
     gamma = prob.gamma
+    restoring = False
     for _ in range(prob.max_iter):
         prob.iterations += 1
-        feasible = state.value("effort") < gamma
+        z_now = state.value("effort")
+        feasible = z_now < gamma
         cons = _linearise(prob.plants, state, "effort", prob.band)
         stab = prob.stability_rows(state, all_plants=False)
         if feasible:
-            obj = _linearise(prob.plants, state, "rpe", prob.band)
-            bound = gamma * (1 - prob.margin)
-            d, t = _lp(obj, [(c, h, bound) for c, h in cons if c >= prob.band * gamma] + stab, radius)
+            # min J with the effort peaks elastic above a target halfway between Z and the margin bound (l1 penalty):
+            # demanding them below the bound at once can leave no room to decrease J, and a pure feasibility step
+            # throws J away; the merit J/J_now + penalty * max(0, Z - target)/gamma decides acceptance
             current = state.value("rpe")
+            bound = gamma * (1 - prob.margin)
+            target = max(bound, 0.5 * (z_now + bound))
+            obj = [(f / current, g / current) for f, g in _linearise(prob.plants, state, "rpe", prob.band)]
+            soft = [(c / gamma, h / gamma, target / gamma) for c, h in cons if c >= prob.band * gamma]
+
+            def merit(j: float, z: float) -> float:
+                return j / current + _PENALTY * max(0.0, z - target) / gamma
+
+            d, t, slack = _lp(obj, stab, radius, soft, _PENALTY)
+            now, pred = merit(current, z_now), (None if d is None else t + _PENALTY * slack)
         else:
-            d, t = _lp(cons, stab, radius)
-            current = state.value("effort")
+            d, pred, _ = _lp(cons, stab, radius)
+            now = z_now
         small = np.all(radius < 1e-7 * np.maximum(1.0, np.abs(state.gain.ravel())))
-        if d is None or current - t <= 1e-3 * prob.tol * current:
+        if d is None or now - pred <= 1e-3 * prob.tol * now:
             if small:
                 break
             radius = radius / 4
             continue
-        worst_new = current - 0.1 * (current - t)  # a step whose objective ends above this is rejected (ratio <= 0.1)
+        worst_new = now - 0.1 * (now - pred)  # a step whose merit ends above this is rejected (ratio <= 0.1)
         if feasible:
-            def reject(lp: LoopPeaks) -> bool:
-                return not lp.stable or lp.norm("effort") >= gamma or lp.norm("rpe") >= worst_new
+            def reject(lp: LoopPeaks) -> bool:  # one plant's peaks bound the merit from below
+                return not lp.stable or lp.norm("effort") >= gamma or merit(lp.norm("rpe"), lp.norm("effort")) >= worst_new
         else:
             def reject(lp: LoopPeaks) -> bool:
                 return not lp.stable or lp.norm("effort") >= worst_new
         trial = prob.evaluate(state.gain + d.reshape(4, 8), reject, state)
         ok = trial is not None and trial.stable() and (trial.value("effort") < gamma if feasible else True)
-        new = (trial.value("rpe") if feasible else trial.value("effort")) if ok else np.inf
-        ratio = (current - new) / (current - t) if ok else -1.0
+        if ok:
+            new = merit(trial.value("rpe"), trial.value("effort")) if feasible else trial.value("effort")
+        ratio = (now - new) / (now - pred) if ok else -1.0
         if ok and ratio > 0.1:
             state = trial
             prob.history.append(dict(phase="optimise" if feasible else "feasibility", J=trial.value("rpe"), Z=trial.value("effort"),
@@ -699,9 +749,9 @@ def _optimise(prob: _Problem, state: _State) -> _State:
             if prob.verbose:
                 print(f"  it {prob.iterations}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
             radius = radius * (2.0 if ratio > 0.75 else 1.0)
-            accepted = accepted + [new] if feasible else []
+            accepted = accepted + [trial.value("rpe")] if feasible else []
             if len(accepted) > 5 and accepted[-6] - accepted[-1] < prob.tol * accepted[-1]:
-                break  # less than tol relative decrease over the last 5 accepted steps
+                break  # less than tol relative decrease of J over the last 5 accepted steps
         else:
             if small:
                 break

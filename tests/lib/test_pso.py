@@ -4,7 +4,7 @@ and the same result through Dask with 1 and 2 workers; the co-design objective's
 import numpy as np
 import pytest
 
-from lib import codesign, pso
+from lib import codesign, pso, synthesis
 
 
 def quadratic(x, state):
@@ -112,3 +112,18 @@ def test_checkpoint_keeps_non_finite_values(tmp_path):
     b = pso.load_state(ck)
     assert b.history[0]["J_c"] == np.inf and isinstance(b.history[0]["J_c"], float)
     assert b.history == a.history
+
+
+def test_codesign_refuses_a_checkpoint_of_another_synthesis(tmp_path, monkeypatch):
+    """A swarm checkpoint records the synthesis version; resuming it with another version would mix results."""
+    def fake(h, gain0=None, fail=False, **kw):
+        return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    ck = tmp_path / "state.json"
+    codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None, stop_after=1)
+    assert pso.load_state(ck).extra["algorithm"] == synthesis.ALGORITHM
+    codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)  # same version: resumes
+    monkeypatch.setattr(synthesis, "ALGORITHM", "another version")
+    with pytest.raises(ValueError, match="delete it"):
+        codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)

@@ -96,3 +96,29 @@ def test_scenarios():
 def test_bad_start(model, inertia):
     with pytest.raises(ValueError, match="gain0"):
         synthesis.synthesize(model, inertia, ST, gain0=np.ones((8, 4)))
+
+
+def test_margin_gradient_against_finite_differences(plant):
+    """Gradient of ``Re lambda + zeta_req |lambda|`` (the |lambda| term included) for a large zeta_req, where
+    dropping it would be off by far more than the tolerance."""
+    zeta_req = 0.05
+    eig = synthesis._eigen(plant, GAIN, min_damping=zeta_req, omega_check=0.0)
+    rng = np.random.default_rng(3)
+    for value, grad, req in eig.rows(3):
+        i = int(np.argmin(np.abs(eig.value - value)))
+        assert np.isclose(req, zeta_req * abs(eig.lam[i]))
+        step = 1e-4 * rng.normal(size=(4, 8))
+        moved = synthesis._eigen(plant, GAIN + step, min_damping=zeta_req, omega_check=0.0)
+        j = int(np.argmin(np.abs(moved.lam - eig.lam[i])))
+        fd = moved.value[j] - value
+        assert abs(fd - np.sum(grad * step)) < 1e-3 * abs(fd) + 1e-12
+
+
+def test_elastic_lp():
+    """min t s.t. t >= d, d <= -1 (hard) is infeasible in |d| <= 0.5; with the constraint soft it takes the slack."""
+    objective = [(0.0, np.array([1.0]))]
+    assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5]))[0] is None
+    d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0)
+    assert np.allclose([d[0], t, s], [-0.5, -0.5, 0.5])
+    d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), 1.0)], penalty=10.0)
+    assert np.allclose([d[0], t, s], [-0.5, -0.5, 0.0])
