@@ -49,7 +49,9 @@ GROUPS = ("rpe", "effort")
 # Version of the optimiser: stored with cached results (co-design grid, swarm checkpoints) so that results of an
 # earlier version are never mixed with new ones. 2: elastic effort constraint, margin gradients with the |lambda|
 # term, stability constraints with a back-off (the version-1 optimiser stalled on constraint boundaries).
-ALGORITHM = "trust-region SLP v2"
+# 3: the poles linearised are those whose margin could rise highest within the trust region (version 2 linearised
+# the least damped ones, and a well-damped but sensitive spillover mode could be destabilised by every step).
+ALGORITHM = "trust-region SLP v3"
 
 
 @dataclass(frozen=True)
@@ -291,21 +293,29 @@ class _Eigen:
     def margin(self) -> float:
         return float(self.value.max())
 
-    def rows(self, n: int) -> list[tuple[float, NDArray, float]]:
-        """Margins of the ``n`` poles closest to violating theirs, with gradients in K and ``zeta_req |lambda|``:
-        ``d lambda = w^H B_v dK C_y v`` for right/left eigenvectors ``v``, ``w`` with ``w^H v = 1``, and
-        ``d margin = Re d lambda + zeta_req Re(conj(lambda) d lambda) / |lambda|`` (the ``|lambda|`` term matters for
-        the high-frequency modes: at 4e3 rad/s and zeta_req 5e-4 it is as large as the real-part change)."""
+    def rows(self, n: int, radius: NDArray | None = None) -> list[tuple[float, NDArray, float]]:
+        """Margins of ``n`` poles with their gradients in K and ``zeta_req |lambda|``: ``d lambda = w^H B_v dK C_y v``
+        for right/left eigenvectors ``v``, ``w`` with ``w^H v = 1``, and ``d margin = Re d lambda + zeta_req
+        Re(conj(lambda) d lambda) / |lambda|`` (the ``|lambda|`` term matters for the high-frequency modes: at 4e3 rad/s
+        and zeta_req 5e-4 it is as large as the real-part change).
+
+        Without ``radius`` the poles closest to violating their margin relative to ``|lambda|``; with ``radius``
+        (the trust region on K, 4x8 or flat) the poles whose margin could rise highest within it, ``margin +
+        sum |dmargin/dK| radius``: a well-damped pole that is very sensitive to K can be the one a step destabilises
+        (measured: a spillover mode at 1182 rad/s, not among the 8 least damped, went unstable at 1 % of |K|)."""
         mag = np.maximum(np.abs(self.lam), 1e-300)
-        order = np.argsort(-self.value / mag)[:n]
-        lu = linalg.lu_factor(self.vr.T)  # left eigenvectors: rows of V^-1, i.e. solutions of V^T x = e_i
-        e = np.zeros((self.vr.shape[0], order.size))
-        e[order, np.arange(order.size)] = 1.0
-        vl = linalg.lu_solve(lu, e).T
+        left_b = np.linalg.solve(self.vr, self.b_v)  # rows: w_i^H B_v, for every pole
+        right_c = self.c_y @ self.vr  # columns: C_y v_i
         zeta_req = (self.value - self.lam.real) / mag
+        if radius is None:
+            order = np.argsort(-self.value / mag)[:n]
+        else:
+            r = np.asarray(radius, dtype=float).reshape(self.b_v.shape[1], self.c_y.shape[0])
+            reach = np.einsum("ij,jk,ki->i", np.abs(left_b), r, np.abs(right_c)) * (1.0 + zeta_req)
+            order = np.argsort(-(self.value + reach))[:n]
         out = []
-        for k, i in enumerate(order):
-            d_lam = np.outer(vl[k] @ self.b_v, self.c_y @ self.vr[:, i])
+        for i in order:
+            d_lam = np.outer(left_b[i], right_c[:, i])
             out.append((float(self.value[i]), np.real(d_lam) + zeta_req[i] * np.real(np.conj(self.lam[i]) / mag[i] * d_lam),
                         float(zeta_req[i] * mag[i])))
         return out
@@ -644,21 +654,23 @@ class _Problem:
         self.evaluations += n
         return state
 
-    def stability_rows(self, state: _State, all_plants: bool) -> list[tuple[float, NDArray, float]]:
-        """Linearised margins of the least damped poles (stability plants; all plants if asked), each bounded by
-        halfway between its value and its target ``-min_decay - 0.01 zeta_req |lambda|``: a pole may close half its
-        distance to the target per step, and one inside the 1 % back-off is pulled back out. A constraint held on
-        its boundary (``value = -min_decay``) would be crossed at second order by every step along it."""
+    def stability_rows(self, state: _State, all_plants: bool, radius: NDArray | None = None) -> list[tuple[float, NDArray, float]]:
+        """Linearised margins of the poles nearest their limit (stability plants; all plants if asked; with
+        ``radius``, the trust region, those that could rise highest within it, see :meth:`_Eigen.rows`). Target
+        ``T = -min_decay - 0.01 zeta_req |lambda|`` (a 1 % back-off): a pole below it may close half its distance
+        to it per step; one inside the back-off may not rise. A constraint held exactly on its boundary
+        (``value = -min_decay``) would be crossed at second order by every step along it."""
         def rows(eig: _Eigen, n: int) -> list[tuple[float, NDArray, float]]:
             out = []
-            for v, g, req in eig.rows(n):
-                out.append((v, g, 0.5 * (v - self.min_decay - 0.01 * req)))
+            for v, g, req in eig.rows(n, radius):
+                target = -self.min_decay - 0.01 * req
+                out.append((v, g, 0.5 * (v + target) if v <= target else v))
             return out
 
         found = [r for lp in state.peaks for r in rows(lp.eigen, 6 if all_plants else 2)]
         state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check)
                        for x, p in zip(state.extra, self.checks)]
-        return found + [r for x in state.extra for r in rows(x, 8)]
+        return found + [r for x in state.extra for r in rows(x, 12)]
 
     def radius(self, gain: NDArray) -> NDArray:
         return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
@@ -685,7 +697,7 @@ def _stabilise(prob: _Problem, state: _State) -> _State:
         if state.stable() or np.all(radius < 1e-9):
             break
         prob.iterations += 1
-        rows = [(v, g.ravel()) for v, g, _ in prob.stability_rows(state, all_plants=True)]
+        rows = [(v, g.ravel()) for v, g, _ in prob.stability_rows(state, all_plants=True, radius=radius)]
         d, _, _ = _lp(rows, [], radius)
         if d is None:
             radius = radius / 4
@@ -713,7 +725,7 @@ def _optimise(prob: _Problem, state: _State) -> _State:
         z_now = state.value("effort")
         feasible = z_now < gamma
         cons = _linearise(prob.plants, state, "effort", prob.band)
-        stab = prob.stability_rows(state, all_plants=False)
+        stab = prob.stability_rows(state, all_plants=False, radius=radius)
         if feasible:
             # min J with the effort peaks elastic above a target halfway between Z and the margin bound (l1 penalty):
             # demanding them below the bound at once can leave no room to decrease J, and a pure feasibility step
