@@ -14,8 +14,11 @@ multi-model structured H-infinity synthesis):
   each local maximum is refined by nested grids in log frequency; the peak is checked by a direct solve;
 * **nonsmooth step**: every peak within a band of the current maximum is linearised (gradient from the
   singular vectors at the peak frequency, exact for a static gain) and a trust-region linear program
-  (HiGHS) minimises the largest linearised RPE peak while keeping the linearised effort peaks below
-  ``gamma_u``; a step is accepted only if all scenarios stay stable and the true maxima behave;
+  (HiGHS) minimises the largest linearised RPE peak; the effort peaks are elastic (an l1 merit) above a
+  target halfway between the current ``Z`` and ``0.98 gamma_u``, and a feasibility phase first brings ``Z``
+  under ``gamma_u``; the pole margins that could rise highest within the trust region are linearised with a
+  1 % back-off; a step is accepted only if all scenarios stay stable, ``Z < gamma_u`` holds and the merit
+  decreases by at least 10 % of the predicted decrease;
 * **stabilisation**: from a destabilising start (e.g. a warm start from another h) the spectral abscissa
   is first pushed below ``-min_decay`` by the same trust-region LP on eigenvalue gradients.
 
