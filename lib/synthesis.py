@@ -54,7 +54,8 @@ GROUPS = ("rpe", "effort")
 # term, stability constraints with a back-off (the version-1 optimiser stalled on constraint boundaries).
 # 3: the poles linearised are those whose margin could rise highest within the trust region (version 2 linearised
 # the least damped ones, and a well-damped but sensitive spillover mode could be destabilised by every step).
-ALGORITHM = "trust-region SLP v3"
+# 4: a round stopped by the iteration limit is followed by another (v3 declared convergence after it).
+ALGORITHM = "trust-region SLP v4"
 
 
 @dataclass(frozen=True)
@@ -302,20 +303,19 @@ class _Eigen:
         Re(conj(lambda) d lambda) / |lambda|`` (the ``|lambda|`` term matters for the high-frequency modes: at 4e3 rad/s
         and zeta_req 5e-4 it is as large as the real-part change).
 
-        Without ``radius`` the poles closest to violating their margin relative to ``|lambda|``; with ``radius``
-        (the trust region on K, 4x8 or flat) the poles whose margin could rise highest within it, ``margin +
-        sum |dmargin/dK| radius``: a well-damped pole that is very sensitive to K can be the one a step destabilises
-        (measured: a spillover mode at 1182 rad/s, not among the 8 least damped, went unstable at 1 % of |K|)."""
+        The ``n`` poles closest to violating their margin relative to ``|lambda|``; with ``radius`` (the trust region
+        on K, 4x8 or flat) also the ``n`` whose margin could rise highest within it, ``margin + sum |dmargin/dK|
+        radius``: a well-damped pole that is very sensitive to K can be the one a step destabilises (measured: a
+        spillover mode at 1182 rad/s, not among the 8 least damped, went unstable at 1 % of |K|)."""
         mag = np.maximum(np.abs(self.lam), 1e-300)
         left_b = np.linalg.solve(self.vr, self.b_v)  # rows: w_i^H B_v, for every pole
         right_c = self.c_y @ self.vr  # columns: C_y v_i
         zeta_req = (self.value - self.lam.real) / mag
-        if radius is None:
-            order = np.argsort(-self.value / mag)[:n]
-        else:
+        order = np.argsort(-self.value / mag)[:n]
+        if radius is not None:
             r = np.asarray(radius, dtype=float).reshape(self.b_v.shape[1], self.c_y.shape[0])
             reach = np.einsum("ij,jk,ki->i", np.abs(left_b), r, np.abs(right_c)) * (1.0 + zeta_req)
-            order = np.argsort(-(self.value + reach))[:n]
+            order = np.r_[order, [i for i in np.argsort(-(self.value + reach))[:n] if i not in order]].astype(int)
         out = []
         for i in order:
             d_lam = np.outer(left_b[i], right_c[:, i])
@@ -560,7 +560,9 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     max_iter : int
         Trust-region iterations per round.
     max_rounds : int
-        Rounds of (optimise on the set, search the box, add the worst scenarios).
+        Rounds of (optimise on the set, search the box, add the worst scenarios). A round whose optimisation
+        stopped at ``max_iter`` is followed by another even when the search adds nothing; if the last one still
+        does, the design is returned as valid (stable, feasible, covered by the search) with that message.
     search_thetas_deg : sequence of float, optional
         Panel angles of the worst-case search grid [deg] (default 10, every 20 deg from 0 to 180).
     min_decay : float
@@ -595,7 +597,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             if not state.stable():
                 message = "could not stabilise every scenario from the starting gain"
                 break
-            state = _optimise(prob, state)
+            state, at_limit = _optimise(prob, state)
             gain = state.gain
             worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
                                min_damping=search_damping * min_damping_all)
@@ -605,17 +607,23 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                 print(f"round {round_}: {len(prob.plants)} scenarios, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
                       f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
                       f"({time.perf_counter() - t0:.1f} s)")
-            if not added:
+            if not added and not at_limit:
                 message = "converged: the worst-case search finds nothing worse than the scenario set"
                 break
+            if not added:  # the set covers the box but the optimiser was still improving: another round on the same set
+                message = (f"iteration limit ({max_rounds} x {max_iter}): the worst-case search finds nothing worse than the "
+                           "scenario set, but the optimiser had not converged")
+                continue
+            message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
             scen += added
             prob.plants += list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), added))
         final = prob.evaluate(gain)
     j_c = max(final.value("rpe"), worst.value["rpe"] if worst else 0.0)
     z_c = max(final.value("effort"), worst.value["effort"] if worst else 0.0)
     stable = final.stable() and (worst is None or not worst.unstable)
-    success = message.startswith("converged") and stable and z_c < settings.gamma_u
-    if not success and message.startswith("converged"):
+    covered = message.startswith(("converged", "iteration limit"))
+    success = covered and stable and z_c < settings.gamma_u
+    if not success and covered:
         message = f"not a valid design: stable={stable}, Z_c={z_c:.4f} (bound {settings.gamma_u})"
     return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, prob.iterations, time.perf_counter() - t0,
                            prob.evaluations, prob.history)
@@ -717,12 +725,12 @@ def _stabilise(prob: _Problem, state: _State) -> _State:
 _PENALTY = 10.0  # weight of the effort excess (relative to gamma) against the relative J in the merit
 
 
-def _optimise(prob: _Problem, state: _State) -> _State:
-    """Feasibility (Z < gamma), then min J s.t. Z < gamma and stability, by a trust-region sequential LP on the peaks."""
+def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
+    """Feasibility (Z < gamma), then min J s.t. Z < gamma and stability, by a trust-region sequential LP on the peaks.
+    Returns the state and whether the iteration limit stopped it (rather than its own convergence tests)."""
     radius = prob.radius(state.gain)
     accepted: list[float] = []
     gamma = prob.gamma
-    restoring = False
     for _ in range(prob.max_iter):
         prob.iterations += 1
         z_now = state.value("effort")
@@ -779,7 +787,10 @@ def _optimise(prob: _Problem, state: _State) -> _State:
             if small:
                 break
             radius = radius / 4
-    return state
+    else:
+        return state, True
+    return state, False
+
 
 def exact_norms(plant: GeneralizedPlant, gain: ArrayLike, rtol: float = 1e-7) -> dict[str, tuple[float, float, bool]]:
     """Certified H-infinity norms of both transfers (Hamiltonian method, :func:`lib.hinf.hinf_norm`).

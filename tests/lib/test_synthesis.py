@@ -126,13 +126,15 @@ def test_elastic_lp():
 
 def test_margin_rows_within_the_trust_region_pick_the_sensitive_pole():
     """Two modes: a lightly damped one the gain cannot move, and a well-damped one it moves strongly. Ranked by margin
-    alone the first is linearised; ranked by how high the margin can rise within the trust region, the second."""
+    alone the first is linearised; given the trust region, also the second (its margin can rise highest in it)."""
     lam = np.array([-0.01 + 10j, -0.01 - 10j, -1.0 + 100j, -1.0 - 100j])
     vr = np.eye(4, dtype=complex)
     b_v = np.zeros((4, 4), dtype=complex)
     c_y = np.zeros((8, 4), dtype=complex)
     b_v[2:, 0], c_y[0, 2:] = 1.0, 1.0  # only the 100 rad/s mode is coupled to the gain
     eig = synthesis._Eigen(lam, vr, lam.real.copy(), b_v, c_y)
-    assert np.allclose(eig.rows(1)[0][0], -0.01)
-    value, grad, _ = eig.rows(1, radius=np.full(32, 10.0))[0]  # reach 10 > 1 - 0.01
+    assert len(eig.rows(1)) == 1 and np.allclose(eig.rows(1)[0][0], -0.01)
+    rows = eig.rows(1, radius=np.full(32, 10.0))  # reach 10 > 1 - 0.01
+    assert len(rows) == 2 and np.isclose(rows[0][0], -0.01) and not np.any(rows[0][1])
+    value, grad, _ = rows[1]
     assert np.isclose(value, -1.0) and np.isclose(grad[0, 0], 1.0) and np.count_nonzero(grad) == 1
