@@ -14,6 +14,7 @@ is logged; it never stops the run. Particles of an iteration are evaluated in pa
 
 from __future__ import annotations
 
+import json
 import time
 import traceback
 from collections.abc import Sequence
@@ -26,7 +27,7 @@ from . import spacecraft, synthesis
 from .closedloop import LoopSettings
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "local_client"]
+__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "local_client"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
 TARGET_JC = 0.9
@@ -183,6 +184,55 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     first = {k: i for i, k in reversed(list(enumerate(keys)))}
     results = dict(zip(unique, done))
     return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
+
+
+def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | None = None, cache: str | Path | None = None,
+                  key: dict | None = None, chunk: int = 4, progress: bool = True, **kwargs) -> tuple[list[dict], float]:
+    """The nested objective at every h of a grid [m], each from a cold start (all gains at -1), resumable.
+
+    Parameters
+    ----------
+    hs : sequence of float
+        Section sides [m].
+    client : dask.distributed.Client, optional
+        Where the evaluations run (see :func:`evaluate_swarm`).
+    settings : LoopSettings, optional
+    cache : path, optional
+        JSON file written after every ``chunk`` evaluations with ``key``; a rerun with the same ``key`` (and
+        number of points) evaluates only the missing points, so an interrupted grid loses at most one chunk.
+    key : dict, optional
+        What the records depend on (grid, settings, synthesis options and version): a cache with another key
+        is recomputed.
+    chunk : int
+        Evaluations between two saves (a multiple of the number of workers keeps them busy).
+    **kwargs
+        Passed to :func:`evaluate_swarm`.
+
+    Returns
+    -------
+    records : list of dict
+        One per h, in the order of ``hs``.
+    time_s : float
+        Wall time spent evaluating, summed over the calls that did it [s].
+    """
+    from .results import from_jsonable, write_json
+
+    stored = from_jsonable(json.loads(Path(cache).read_text())) if cache is not None and Path(cache).exists() else {}
+    key = json.loads(json.dumps(key, default=str))  # as it reads back from the file
+    fresh = stored.get("key") != key or len(stored.get("records", [])) != len(hs)
+    records: list[dict | None] = [None] * len(hs) if fresh else stored["records"]
+    time_s = 0.0 if fresh else float(stored.get("time_s", 0.0))
+    todo = [i for i, r in enumerate(records) if r is None]
+    for start in range(0, len(todo), chunk):
+        idx = todo[start:start + chunk]
+        t0 = time.perf_counter()
+        done = evaluate_swarm([hs[i] for i in idx], None, client, settings, progress=progress, **kwargs)
+        time_s += time.perf_counter() - t0
+        for i, rec in zip(idx, done):
+            records[i] = rec
+        if cache is not None:
+            write_json(cache, {"key": key, "records": records, "time_s": time_s})
+    return records, time_s
 
 
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,

@@ -18,7 +18,6 @@ floor(0.25 n))``. Initial positions uniform in the bounds, velocities uniform in
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -157,17 +156,12 @@ def update_bests(state: SwarmState, values: Sequence[float]) -> bool:
 
 def save_state(state: SwarmState, path: str | Path) -> Path:
     """Write the state as JSON, atomically (a crash while writing leaves the previous checkpoint intact)."""
-    from .results import to_jsonable
+    from .results import to_jsonable, write_json
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     payload = {k: to_jsonable(getattr(state, k)) for k in state.__dataclass_fields__}
     payload["g_f"] = state.g_f if np.isfinite(state.g_f) else None
     payload["p_f"] = [v if np.isfinite(v) else None for v in state.p_f.tolist()]
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(payload))
-    os.replace(tmp, path)
-    return path
+    return write_json(path, payload)
 
 
 def load_state(path: str | Path) -> SwarmState:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import platform
 from pathlib import Path
 from typing import Any
@@ -45,6 +46,16 @@ def from_jsonable(value: Any) -> Any:
     if isinstance(value, list):
         return [from_jsonable(v) for v in value]
     return _NON_FINITE.get(value, value) if isinstance(value, str) else value
+
+
+def write_json(path: str | Path, payload: Any) -> Path:
+    """Write ``to_jsonable(payload)`` to ``path`` atomically: a crash while writing leaves the previous file intact."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(to_jsonable(payload)))
+    os.replace(tmp, path)
+    return path
 
 
 def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "data/results",

@@ -127,3 +127,30 @@ def test_codesign_refuses_a_checkpoint_of_another_synthesis(tmp_path, monkeypatc
     monkeypatch.setattr(synthesis, "ALGORITHM", "another version")
     with pytest.raises(ValueError, match="delete it"):
         codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)
+
+
+def test_grid_resumes_after_an_interruption(tmp_path, monkeypatch):
+    """The grid is saved after every chunk: an interrupted run loses at most its current chunk, and the resumed
+    grid equals an uninterrupted one; another key recomputes everything."""
+    calls, broken = [], {"at": 0.023}
+
+    def fake(h, gain0=None, fail=False, **kw):
+        if h == broken["at"]:
+            raise RuntimeError("worker lost")
+        calls.append(h)
+        return {"h": h, "f": 2 * h, "J_c": np.inf if h == 0.021 else 0.1, "gain": [[h]], "scenarios": None}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    hs = [0.020, 0.021, 0.022, 0.023, 0.024]
+    cache, key = tmp_path / "grid.json", {"h": hs, "settings": {"t_delta": 0.003}}
+    with pytest.raises(RuntimeError):
+        codesign.evaluate_grid(hs, cache=cache, key=key, chunk=2, progress=False)
+    assert calls == [0.020, 0.021, 0.022]  # chunk (0.022, 0.023) was interrupted
+    broken["at"] = None
+    records, _ = codesign.evaluate_grid(hs, cache=cache, key=key, chunk=2, progress=False)
+    assert calls[3:] == [0.022, 0.023, 0.024]  # only the missing points
+    assert [r["f"] for r in records] == [2 * h for h in hs] and records[1]["J_c"] == np.inf
+    again, _ = codesign.evaluate_grid(hs, cache=cache, key=key, chunk=2, progress=False)
+    assert again == records and len(calls) == 6  # complete: read back, nothing evaluated
+    codesign.evaluate_grid(hs, cache=cache, key={**key, "settings": {"t_delta": 0.03}}, chunk=2, progress=False)
+    assert len(calls) == 11  # another key: all recomputed
