@@ -35,6 +35,10 @@ KEEP = ("Iyy_SC", "M_SC", "omega1_SP")  # the parameters of Delta_p, in the grou
 class ModalResponse:
     """``w -> C (jwI - A)^-1 B + D`` through one eigen-decomposition, checked against a direct solve.
 
+    The check tolerance ``rtol`` (relative to the largest entry, default 1e-5) is far below what the bounds are used
+    for (upper and lower bounds compared at 5 %, every worst case confirmed by a rebuilt model and a Hamiltonian
+    norm); it was 1e-7 until a design with closely spaced closed-loop poles (synthesis v4 at 2.139 cm) gave 6.3e-7.
+
     Raises
     ------
     ValueError
@@ -42,7 +46,7 @@ class ModalResponse:
         (defective or ill-conditioned eigenvectors).
     """
 
-    def __init__(self, a: NDArray, b: NDArray, c: NDArray, d: NDArray, check: Sequence[float] = (1.0, 97.0), rtol: float = 1e-7):
+    def __init__(self, a: NDArray, b: NDArray, c: NDArray, d: NDArray, check: Sequence[float] = (1.0, 97.0), rtol: float = 1e-5):
         self.lam, vec = np.linalg.eig(a)
         self.cv, self.vb, self.d = c @ vec, np.linalg.solve(vec, b), d
         for w in check:
