@@ -524,7 +524,8 @@ def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, N
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
                scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
                min_damping: float = 5e-4, omega_check: float = 500.0, min_damping_all: float = 2e-4,
-               search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None, min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
+               search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
+               min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
                verbose: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
