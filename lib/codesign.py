@@ -27,7 +27,8 @@ from . import spacecraft, synthesis
 from .closedloop import LoopSettings
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "local_client"]
+__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid",
+           "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
 TARGET_JC = 0.9
@@ -153,37 +154,77 @@ def local_client(n_workers: int | None = None, scheduler: str | None = None):
 def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
                    params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
                    retries: int = 2, synthesis_options: dict | None = None,
-                   scenarios0: Sequence[Sequence[float]] | None = None) -> list[dict]:
+                   scenarios0: Sequence[Sequence[float]] | None = None, partial: str | Path | None = None,
+                   partial_key: dict | None = None) -> list[dict]:
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
 
     A worker that dies is retried (``retries`` times) by Dask; the results do not depend on the number of
     workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
     a bound of the range) share one evaluation: with the same warm start the result is the same.
     ``fail_particles`` injects failures (tests).
+
+    With ``partial`` (a JSON file) every finished evaluation is saved at once with ``partial_key`` (what the
+    evaluations depend on); a call with the same key reuses them, so an interrupted batch loses only the
+    evaluations that were running. The file also accumulates the wall time spent (``time_s``).
     """
     from tqdm.auto import tqdm
+
+    from .results import write_json
 
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
     kw = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
     keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
     unique = list(dict.fromkeys(keys))
-    bar = tqdm(total=len(unique), desc="particles", disable=not progress, leave=False)
+    saved = _read_partial(partial, partial_key)
+    results = {k: saved["records"][_tag(k)] for k in unique if _tag(k) in saved["records"]}
+    todo = [k for k in unique if k not in results]
+    t0 = time.perf_counter()
+
+    def finished(key: tuple[float, bool], rec: dict) -> None:
+        results[key] = rec
+        bar.update()
+        if partial is not None:
+            saved["records"][_tag(key)] = rec
+            write_json(partial, {"key": saved["key"], "records": saved["records"],
+                                 "time_s": saved["time_s"] + time.perf_counter() - t0})
+
+    bar = tqdm(total=len(unique), initial=len(results), desc="particles", disable=not progress, leave=False)
     if client is None:
-        done = []
-        for h, fail in unique:
-            done.append(evaluate_particle(h, gain0, fail=fail, **kw))
-            bar.update()
+        for h, fail in todo:
+            finished((h, fail), evaluate_particle(h, gain0, fail=fail, **kw))
     else:
         from dask.distributed import as_completed
 
-        futures = [client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, retries=retries, **kw) for h, fail in unique]
-        for _ in as_completed(futures):
-            bar.update()
-        done = client.gather(futures)
+        futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, retries=retries, **kw): (h, fail)
+                   for h, fail in todo}
+        for fut in as_completed(futures):
+            finished(futures[fut], fut.result())
     bar.close()
     first = {k: i for i, k in reversed(list(enumerate(keys)))}
-    results = dict(zip(unique, done))
     return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
+
+
+def _tag(key: tuple[float, bool]) -> str:
+    """JSON key of an evaluation: h to 17 digits and whether a failure is injected."""
+    return f"{key[0]!r}|{key[1]}"
+
+
+def _read_partial(path: str | Path | None, key: dict | None) -> dict:
+    """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
+    from .results import from_jsonable
+
+    key = json.loads(json.dumps(key, default=str))  # as it reads back from the file
+    if path is not None and Path(path).exists():
+        stored = from_jsonable(json.loads(Path(path).read_text()))
+        if stored.get("key") == key:
+            return stored
+    return {"key": key, "records": {}, "time_s": 0.0}
+
+
+def partial_path(checkpoint: str | Path) -> Path:
+    """File of the finished evaluations of the iteration under way, next to a swarm checkpoint."""
+    checkpoint = Path(checkpoint)
+    return checkpoint.with_name(checkpoint.stem + ".partial.json")
 
 
 def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | None = None, cache: str | Path | None = None,
@@ -282,16 +323,25 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         state.extra["algorithm"] = synthesis.ALGORITHM
         gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
         fails = [p for it, p in fail_particles if it == state.iteration]
+        part = None if checkpoint is None else partial_path(checkpoint)
+        key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
+               "settings": None if settings is None else settings.__dict__, "options": synthesis_options}
         recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
-                              synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"))
+                              synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"),
+                              partial=part, partial_key=key)
         ok = [r for r in recs if r["gain"] is not None]
         if ok:
             best = min(ok, key=lambda r: r["f"])
             state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
-        state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [time.perf_counter() - t0]
+        wall = time.perf_counter() - t0
+        if part is not None:  # with the time spent on this iteration before an interruption
+            wall = max(wall, _read_partial(part, key)["time_s"])
+        state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [wall]
         return recs
 
-    def summary(state) -> None:
+    def summary(state) -> None:  # called once the iteration is in the checkpoint
+        if checkpoint is not None:
+            partial_path(checkpoint).unlink(missing_ok=True)
         it = [r for r in state.history if r["iteration"] == state.iteration - 1]
         best = min(it, key=lambda r: r["f"])
         failed = sum(not str(r.get("status", "")).startswith("ok") for r in it)

@@ -154,3 +154,34 @@ def test_grid_resumes_after_an_interruption(tmp_path, monkeypatch):
     assert again == records and len(calls) == 6  # complete: read back, nothing evaluated
     codesign.evaluate_grid(hs, cache=cache, key={**key, "settings": {"t_delta": 0.03}}, chunk=2, progress=False)
     assert len(calls) == 11  # another key: all recomputed
+
+
+def test_codesign_interrupted_inside_an_iteration_loses_no_finished_particle(tmp_path, monkeypatch):
+    """Particles finished before an interruption are kept (a partial file next to the checkpoint) and not evaluated
+    again on resume; the resumed run ends as an uninterrupted one."""
+    calls, broken = [], {"at": None}
+
+    def fake(h, gain0=None, fail=False, **kw):
+        if h == broken["at"]:
+            raise RuntimeError("killed")
+        calls.append(h)
+        return {"h": h, "f": (h - 0.021) ** 2, "J_c": 0.1, "gain": [[h]], "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    quiet = dict(progress=False, log=lambda s: None)
+    ref = codesign.run_codesign(4, 3, seed=1, checkpoint=tmp_path / "ref.json", **quiet)
+    n_ref = len(calls)
+    second = [r["h"] for r in ref.history if r["iteration"] == 1]
+    calls.clear()
+    ck = tmp_path / "state.json"
+    broken["at"] = second[2]  # the third particle of the second iteration
+    with pytest.raises(RuntimeError, match="killed"):
+        codesign.run_codesign(4, 3, seed=1, checkpoint=ck, **quiet)
+    assert calls[-2:] == second[:2]
+    broken["at"] = None
+    before = len(calls)
+    out = codesign.run_codesign(4, 3, seed=1, checkpoint=ck, **quiet)
+    assert calls[before:before + 2] == second[2:]  # the resumed iteration evaluates only the missing particles
+    assert len(calls) == n_ref
+    assert [r["f"] for r in out.history] == [r["f"] for r in ref.history] and out.g_f == ref.g_f
+    assert not codesign.partial_path(ck).exists()  # removed once its iteration is in the checkpoint
