@@ -6,6 +6,8 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
 * one robust synthesis from all gains at -1 (the paper's cold start) at h = 2.139 cm;
 * one synthesis warm-started from the gain of a nearby h (2.0 cm -> 2.139 cm), and one warm-started from its gain and
   its final scenario set, with the co-design's stopping tolerance (as notebook 07 does);
+* warm starts from the co-design grid's design at 2.1 cm (gain and scenario set) to 2.11, 2.139 and 2.2 cm: how the
+  gain fares at the new h before any iteration, and the synthesis time;
 * cold syntheses at h = 2.5 cm with the default stopping tolerance and the co-design's (notebook 07 quotes both);
 * the mu analysis (both transfers) at ``--n-tau`` panel angles, per angle (notebook 08 runs 50).
 
@@ -30,6 +32,27 @@ from lib import design, robustness  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
 
+def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings) -> dict:
+    """Warm starts from the co-design grid's design at ``h0`` [m] (its gain and final scenario set, the co-design's
+    tolerance) to ``h0 + step``: first how the gain itself fares at the new h (largest real part and smallest
+    damping ratio of the closed-loop poles over the scenario set), then the synthesis time."""
+    from lib import codesign, synthesis
+
+    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
+    rec = next(r for r in grid["records"] if abs(r["h"] - h0) < 1e-9)
+    scen = [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
+    out = {}
+    for step in steps:
+        m = design.models_at(h0 + step)
+        eig = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), rec["gain"]).eigen for sc in scen]
+        zeta = min(float(np.min(-e.lam.real / np.abs(e.lam))) for e in eig)
+        r = design.robust_design(m, settings, gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)
+        out[f"+{1e3 * step:g}mm"] = dict(start_max_real=max(float(e.lam.real.max()) for e in eig), start_min_damping=zeta,
+                                         time_s=r.time_s, iterations=r.iterations, J_c=r.j_c, Z_c=r.z_c, success=r.success,
+                                         grid_J_c=rec["J_c"])
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--n-tau", type=int, default=6)
@@ -52,6 +75,7 @@ def main() -> None:
     out["warm_from_h_2.0cm_with_scenarios_codesign_tol"] = dict(time_s=co.time_s, iterations=co.iterations,
                                                                 evaluations=co.evaluations, J_c=co.j_c, Z_c=co.z_c,
                                                                 success=co.success, scenarios=len(co.scenarios))
+    out["warm_from_grid_2.1cm"] = _warm_from_grid(0.021, (0.0001, 0.00039, 0.001), settings)
     m25 = design.models_at(0.025)
     for name, opts in (("cold_2.5cm_default_tol", {}), ("cold_2.5cm_codesign_tol", codesign.SYNTHESIS_OPTIONS)):
         r = design.robust_design(m25, settings, **opts)
