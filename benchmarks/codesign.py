@@ -62,6 +62,8 @@ def main() -> None:
         "failed_or_penalised": sum(not str(r["status"]).startswith("ok") for r in own),
         "best": {k: best[k] for k in ("h", "f", "J_c", "Z_c", "mass")},
         "source": args.report or "this run",
+        "synthesis_algorithm": state.extra.get("algorithm"),
+        "complete": iterations >= args.iterations,
     }
     print(json.dumps(out, indent=2))
     path = Path(__file__).parent / "results" / "codesign.json"
