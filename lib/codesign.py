@@ -209,16 +209,23 @@ def _tag(key: tuple[float, bool]) -> str:
     return f"{key[0]!r}|{key[1]}"
 
 
-def _read_partial(path: str | Path | None, key: dict | None) -> dict:
-    """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
+def _read_keyed(path: str | Path | None, key: dict | None) -> tuple[dict | None, dict]:
+    """A results file written with ``key`` (None if absent or written with another key), and the key as it reads
+    back from a file (what is written with new results)."""
     from .results import from_jsonable
 
-    key = json.loads(json.dumps(key, default=str))  # as it reads back from the file
+    key = json.loads(json.dumps(key, default=str))
     if path is not None and Path(path).exists():
         stored = from_jsonable(json.loads(Path(path).read_text()))
         if stored.get("key") == key:
-            return stored
-    return {"key": key, "records": {}, "time_s": 0.0}
+            return stored, key
+    return None, key
+
+
+def _read_partial(path: str | Path | None, key: dict | None) -> dict:
+    """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
+    stored, key = _read_keyed(path, key)
+    return stored or {"key": key, "records": {}, "time_s": 0.0}
 
 
 def partial_path(checkpoint: str | Path) -> Path:
@@ -256,11 +263,10 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     time_s : float
         Wall time spent evaluating, summed over the calls that did it [s].
     """
-    from .results import from_jsonable, write_json
+    from .results import write_json
 
-    stored = from_jsonable(json.loads(Path(cache).read_text())) if cache is not None and Path(cache).exists() else {}
-    key = json.loads(json.dumps(key, default=str))  # as it reads back from the file
-    fresh = stored.get("key") != key or len(stored.get("records", [])) != len(hs)
+    stored, key = _read_keyed(cache, key)
+    fresh = stored is None or len(stored.get("records", [])) != len(hs)
     records: list[dict | None] = [None] * len(hs) if fresh else stored["records"]
     time_s = 0.0 if fresh else float(stored.get("time_s", 0.0))
     todo = [i for i, r in enumerate(records) if r is None]
