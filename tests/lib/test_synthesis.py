@@ -138,3 +138,28 @@ def test_margin_rows_within_the_trust_region_pick_the_sensitive_pole():
     assert len(rows) == 2 and np.isclose(rows[0][0], -0.01) and not np.any(rows[0][1])
     value, grad, _ = rows[1]
     assert np.isclose(value, -1.0) and np.isclose(grad[0, 0], 1.0) and np.count_nonzero(grad) == 1
+
+
+def test_lazy_cap_gives_the_same_decision(model, inertia, monkeypatch):
+    """The worst-case search's lazy damping cap: same ``stable`` and peaks as the eager cap, at damping requirements
+    below and above the closed loop's least damping, with a cap that binds (the real passive damping) or not (a
+    large one); the passive poles are computed only when the uncapped requirement fails."""
+    from lib.closedloop import GeneralizedPlant
+
+    sc = Scenario(0.5, -1.0, 1.0, np.deg2rad(60.0))
+    plant = plant_at(model, sc, inertia, ST)
+    lam = plant.closed_loop_poles(GAIN)
+    zeta_cl = float(np.min(-lam.real / np.abs(lam)))
+    calls = []
+    outcomes = set()
+    for passive in (plant.passive_damping(), 1.0):
+        monkeypatch.setattr(GeneralizedPlant, "passive_damping", lambda self, v=passive: calls.append(v) or v)
+        for factor in (0.3, 0.9, 1.1, 2.0, 5.0):
+            eager = synthesis.loop_peaks(plant, GAIN, min_damping=factor * zeta_cl)
+            calls.clear()
+            lazy = synthesis.loop_peaks(plant, GAIN, min_damping=factor * zeta_cl, lazy_cap=True)
+            assert lazy.stable == eager.stable
+            assert lazy.peaks == eager.peaks
+            assert bool(calls) == (factor > 1)  # the cap is computed only when the uncapped requirement fails
+            outcomes.add(eager.stable)
+    assert outcomes == {True, False}  # both decisions exercised
