@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike
 
 from .paths import resolve
 
-__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels"]
+__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels", "objective_grid"]
 
 
 def savefig(fig: plt.Figure, name: str, figures_dir: str | Path = "figures") -> Path:
@@ -105,4 +105,36 @@ def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[flo
     for a in axes.ravel():
         a.grid(alpha=0.3)
     fig.tight_layout()
+    return fig
+
+
+def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, title: str = "") -> plt.Figure:
+    """The co-design objective on a grid of h: ``f^n``, the robust ``J_c`` (with the 0.9 target) and the truss mass.
+
+    Parameters
+    ----------
+    records : sequence of mapping
+        One per grid point, with ``h`` [m], ``f``, ``J_c`` and ``mass`` [kg] (:func:`lib.codesign.evaluate_grid`);
+        penalised or failed points (``J_c`` infinite) are drawn on the f panel only.
+    best : mapping, optional
+        The swarm's best particle (same keys), marked on the f and J_c panels.
+    title : str
+        Prefix of the panel titles.
+    """
+    h = 100 * np.array([r["h"] for r in records])
+    f, j_c, mass = (np.array([r[k] for r in records], dtype=float) for k in ("f", "J_c", "mass"))
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    axes[0].plot(h, f, "k.-", label="dense grid")
+    axes[1].plot(h, np.where(np.isfinite(j_c), j_c, np.nan), "C3.-", label="dense grid")
+    axes[1].axhline(0.9, color="k", ls=":", label="target 0.9")
+    if best is not None:
+        axes[0].plot(100 * best["h"], best["f"], "o", color="gold", mec="k", label="PSO best")
+        axes[1].plot(100 * best["h"], best["J_c"], "o", color="gold", mec="k", label="PSO best")
+    axes[2].plot(h, mass, "C0.-")
+    for ax, ylabel, name in zip(axes, ("$f^n$", "$J_c$ (robust, worst case)", "truss mass [kg]"),
+                                ("objective", "pointing performance", "mass")):
+        ax.set(xlabel="h [cm]", ylabel=ylabel, title=f"{title}{name}")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[1].legend(fontsize=8)
     return fig
