@@ -185,3 +185,46 @@ def test_codesign_interrupted_inside_an_iteration_loses_no_finished_particle(tmp
     assert len(calls) == n_ref
     assert [r["f"] for r in out.history] == [r["f"] for r in ref.history] and out.g_f == ref.g_f
     assert not codesign.partial_path(ck).exists()  # removed once its iteration is in the checkpoint
+
+
+def test_evaluate_swarm_through_a_separately_started_scheduler(tmp_path):
+    """The cluster path of notebook 07 (``scheduler_address``): a scheduler and a worker started as their own processes,
+    as dask-jobqueue or ``dask scheduler`` / ``dask worker`` would on a cluster, reached by address. The particles
+    (failures injected, so that each evaluation is quick but runs the real ``evaluate_particle`` on the worker) come
+    back as from a serial evaluation."""
+    import subprocess
+    import sys
+    import time
+
+    pytest.importorskip("dask.distributed")
+    sched_file = tmp_path / "scheduler.json"
+    procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
+                               "--no-dashboard", "--scheduler-file", str(sched_file)],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        for _ in range(300):
+            if sched_file.exists() and sched_file.stat().st_size:
+                break
+            time.sleep(0.1)
+        import json
+
+        address = json.loads(sched_file.read_text())["address"]
+        procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
+                                       "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        client = codesign.local_client(scheduler=address)
+        try:
+            client.wait_for_workers(1, timeout=60)
+            hs = [0.015, 0.02, 0.015, 0.03]
+            remote = codesign.evaluate_swarm(hs, None, client, fail_particles=[0, 1, 2, 3], progress=False)
+        finally:
+            client.close()
+        local = codesign.evaluate_swarm(hs, None, None, fail_particles=[0, 1, 2, 3], progress=False)
+        timing = {"t_model", "t_build", "t_reduction", "t_synthesis", "t_total", "traceback"}
+        strip = [{k: v for k, v in r.items() if k not in timing} for r in remote]
+        assert strip == [{k: v for k, v in r.items() if k not in timing} for r in local]
+        assert [r["status"] for r in remote] == ["failed: RuntimeError: injected failure (test)"] * 4
+        assert [r["mass"] for r in remote] == [r["mass_check"] for r in remote] and remote[0]["mass"] < remote[3]["mass"]
+    finally:
+        for p in procs[::-1]:
+            p.terminate()
+            p.wait(timeout=30)
