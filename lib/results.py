@@ -62,12 +62,18 @@ def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "
                  parameters: dict[str, Any] | None = None) -> Path:
     """Write ``results`` (and the run's ``parameters``) to ``<results_dir>/<name>.json``.
 
+    The file also records the library version and the version of the synthesis optimiser
+    (:data:`lib.synthesis.ALGORITHM`), on which every robust design depends.
+
     Returns the path written.
     """
+    from .synthesis import ALGORITHM
+
     folder = resolve(results_dir)
     payload = {
         "notebook": name,
         "library_version": __version__,
+        "synthesis_algorithm": ALGORITHM,
         "python": platform.python_version(),
         "parameters": to_jsonable(parameters or {}),
         "results": to_jsonable(results),
