@@ -6,6 +6,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+from matplotlib.ticker import MaxNLocator
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -100,10 +101,12 @@ def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[flo
     ax2 = ax.twinx()
     ax2.plot(x, [b["J_c"] for b in best], "C3s--", label="$J_c$")
     ax2.set_ylabel("$J_c$")
-    ax.legend(loc="upper left", fontsize=8)
-    ax2.legend(loc="upper right", fontsize=8)
+    lines = ax.get_lines() + ax2.get_lines()
+    ax.legend(lines, [line.get_label() for line in lines], loc="upper center", fontsize=8)
     for a in axes.ravel():
         a.grid(alpha=0.3)
+    for a in axes[1]:  # line plots: integer iterations (the boxplots label their own positions)
+        a.xaxis.set_major_locator(MaxNLocator(integer=True))
     fig.tight_layout()
     return fig
 

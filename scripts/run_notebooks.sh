@@ -33,8 +33,16 @@ else
 fi
 [ -z "$params" ] || extra+=(-f "$params")
 mkdir -p "$nbdir"
+# A notebook whose final checks fail (e.g. notebook 07's PSO-versus-grid check) has already saved its results and
+# figures: the later notebooks still run, and the job exits non-zero at the end naming the failed ones.
+failed=()
 for nb in notebooks/[0-9][0-9]_*.ipynb; do
   echo "== $nb"
-  "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" "${extra[@]}"
+  "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" "${extra[@]}" \
+    || failed+=("$(basename "$nb")")
 done
 echo "executed notebooks in $nbdir"
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "FAILED (see the error cell of each executed copy in $nbdir): ${failed[*]}" >&2
+  exit 1
+fi
