@@ -24,6 +24,7 @@ Run: python benchmarks/codesign_floor.py [--workers 2] [--repeat 20]
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
 import platform
@@ -37,17 +38,11 @@ import numpy as np  # noqa: E402
 from lib import codesign, design, pso, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
+from build_open_loop import timed  # noqa: E402  (benchmarks/ is on the path when a benchmark runs as a script)
+
 ROOT = Path(__file__).parents[1]
-
-
-def _median_time(fun, repeat: int) -> float:
-    """Median wall time of ``fun()`` over ``repeat`` calls [s]."""
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fun()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+# the synthesis's own pole-damping requirements, so that the timed evaluations do what the synthesis does
+_DEFAULTS = {k: v.default for k, v in inspect.signature(synthesis.synthesize).parameters.items()}
 
 
 def main() -> None:
@@ -69,8 +64,10 @@ def main() -> None:
         plant = synthesis.plant_at(m.g_r, synthesis.Scenario(), m.inertia, settings)
         check = synthesis.plant_at(m.g_check, synthesis.Scenario(), m.inertia, settings)
         row = dict(h=h, t_model_s=t_model, order_plant=int(plant.a.shape[0]), order_spillover=int(check.a.shape[0]),
-                   plant_evaluation_s=_median_time(lambda: synthesis.loop_peaks(plant, gain, min_damping=2e-4), args.repeat),
-                   spillover_check_s=_median_time(lambda: synthesis._eigen(check, gain, 5e-4, m.omega_max), max(3, args.repeat // 4)))
+                   plant_evaluation_s=timed(lambda: synthesis.loop_peaks(plant, gain, min_damping=_DEFAULTS["min_damping_all"]),
+                                            args.repeat)[1],
+                   spillover_check_s=timed(lambda: synthesis._eigen(check, gain, _DEFAULTS["min_damping"], m.omega_max),
+                                           max(3, args.repeat // 4))[1])
         out["per_h"].append(row)
         print(f"h {100 * h:.3f} cm: model {t_model:.1f} s; plant order {row['order_plant']}, one evaluation "
               f"{1e3 * row['plant_evaluation_s']:.1f} ms; spillover check ({row['order_spillover']} states) "
@@ -85,7 +82,7 @@ def main() -> None:
           f"{r.evaluations} plant evaluations, {len(scen)} -> {len(r.scenarios)} scenarios, J_c {r.j_c:.4f}, Z_c {r.z_c:.3f}, "
           f"{'valid' if r.success else 'NOT valid: ' + r.message}")
     t0 = time.perf_counter()  # the search as the synthesis ends it: on its final gain (stable on the whole box)
-    wc = synthesis.worst_case(m.g_r, r.gain, m.inertia, settings, workers=1, min_damping=0.75 * 2e-4)
+    wc = synthesis.worst_case(m.g_r, r.gain, m.inertia, settings, workers=1, min_damping=_DEFAULTS["search_damping"] * _DEFAULTS["min_damping_all"])
     out["search_1.5cm"] = dict(evaluations=wc.evaluations, time_s=time.perf_counter() - t0)
     print(f"worst-case search at 1.5 cm on the final gain: {wc.evaluations} plant evaluations, "
           f"{out['search_1.5cm']['time_s']:.1f} s")

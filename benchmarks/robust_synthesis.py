@@ -47,14 +47,15 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
         eig = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), rec["gain"]).eigen for sc in scen]
         zeta = min(float(np.min(-e.lam.real / np.abs(e.lam))) for e in eig)
         r = design.robust_design(m, settings, gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)
-        steps = [e for e in r.history if e.get("phase") != "stabilise"]
+        optimiser_steps = [e for e in r.history if e.get("phase") != "stabilise"]
         out[f"+{1e3 * step:g}mm"] = dict(start_max_real=max(float(e.lam.real.max()) for e in eig), start_min_damping=zeta,
                                          time_s=r.time_s, iterations=r.iterations, J_c=r.j_c, Z_c=r.z_c, success=r.success,
                                          grid_J_c=rec["J_c"],
                                          # what restoring stability cost: accepted restoration steps, then J and Z after the
                                          # first accepted optimiser step that follows them
                                          stabilise_steps=sum(1 for e in r.history if e.get("phase") == "stabilise"),
-                                         first_step_after_restoration=dict(J=steps[0]["J"], Z=steps[0]["Z"]) if steps else None)
+                                         first_step_after_restoration=(dict(J=optimiser_steps[0]["J"], Z=optimiser_steps[0]["Z"])
+                                                                       if optimiser_steps else None))
     return out
 
 
