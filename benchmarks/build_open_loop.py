@@ -1,5 +1,8 @@
 """Benchmark: time to build the open-loop spacecraft model G at one h (order 1324), to reduce it
-(G_r_low, G_r) and to build its uncertain/tunable LFT form.
+(G_r_low, G_r) and to build its uncertain/tunable LFT form; and the models of one design point
+(``lib.design.models_at``: G_r, G_r_low and the spillover model of the uncertain model) against the naive path it
+is tested against (scipy's ``solve_sylvester``, which recomputes the Schur forms it is given, and G_r and the
+spillover model each reduced from G_r_low).
 
 Prints the timings and saves them to benchmarks/results/build_open_loop.json.
 Run: python benchmarks/build_open_loop.py [--repeat N]
@@ -14,8 +17,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+from scipy import linalg
 
-from lib import reduction, spacecraft, truss, titop
+from lib import design, reduction, spacecraft, truss, titop
 
 
 def timed(fn, repeat):
@@ -25,6 +29,19 @@ def timed(fn, repeat):
         out = fn()
         times.append(time.perf_counter() - t0)
     return out, float(np.median(times)), float(np.min(times))
+
+
+def naive_models(h: float) -> tuple:
+    """The reference path of ``models_at``'s reductions (see the module docstring)."""
+    fast = reduction._sylvester_schur
+    reduction._sylvester_schur = lambda t1, t2, rhs: linalg.solve_sylvester(t1, -t2, rhs)
+    try:
+        lft = spacecraft.open_loop(h, uncertain=True).lft.grouped()
+        low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d)
+        return (low, reduction.modal_reduction(*low.reduced, omega_max=500.0),
+                reduction.modal_reduction(*low.reduced, omega_max=1e4))
+    finally:
+        reduction._sylvester_schur = fast
 
 
 def main() -> None:
@@ -44,6 +61,11 @@ def main() -> None:
     rows["G_r_low: removal of the 540 slow poles"] = (med, best)
     _, med, best = timed(lambda: reduction.modal_reduction(g.A, g.B, g.C, g.D, omega_max=500.0), max(1, args.repeat // 2))
     rows["G_r: slow poles + modes above 500 rad/s"] = (med, best)
+    for h in (0.015, 0.02139):
+        _, med, best = timed(lambda h=h: naive_models(h), max(1, args.repeat // 2))
+        rows[f"design models at {100 * h:.3g} cm, naive reference"] = (med, best)
+        _, med, best = timed(lambda h=h: design.models_at(h), max(1, args.repeat // 2))
+        rows[f"design models at {100 * h:.3g} cm (models_at)"] = (med, best)
     unc, med, best = timed(lambda: spacecraft.open_loop(uncertain=True, tunable=True), max(1, args.repeat // 2))
     rows["uncertain + tunable G(h, Delta) (LFT)"] = (med, best)
     _, med, best = timed(lambda: unc.lft.substitute({"h": 0.02139}), max(1, args.repeat // 2))
