@@ -1,7 +1,7 @@
 """2D mechanisms built from TITOP beams by block-diagram interconnection.
 
 Paper: section "2D Mechanisms" (L-chain, triangle, square). Mathematics:
-``docs/titop_math.md`` section e. All ports are projected in one common frame;
+``../shared/docs/titop_math.md`` (design note) section e. All ports are projected in one common frame;
 the frame changes are inside the beam blocks (:func:`lib.titop.beam`).
 
 Nodes are given as ``(name, position)`` pairs; positions in metres. Every builder takes an

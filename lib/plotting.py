@@ -111,24 +111,31 @@ def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[flo
     return fig
 
 
-def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, title: str = "") -> plt.Figure:
+def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, title: str = "", jc_limit: float = 2.0) -> plt.Figure:
     """The co-design objective on a grid of h: ``f^n``, the robust ``J_c`` (with the 0.9 target) and the truss mass.
 
     Parameters
     ----------
     records : sequence of mapping
         One per grid point, with ``h`` [m], ``f``, ``J_c`` and ``mass`` [kg] (:func:`lib.codesign.evaluate_grid`);
-        penalised or failed points (``J_c`` infinite) are drawn on the f panel only.
+        penalised or failed points (``J_c`` infinite or above ``jc_limit``) are marked at the top of the f panel (their
+        ``f^n``, the mass plus the penalty, would squash the valid curve) and left out of the J_c panel.
     best : mapping, optional
         The swarm's best particle (same keys), marked on the f and J_c panels.
     title : str
         Prefix of the panel titles.
+    jc_limit : float
+        ``J_c`` above which the objective is penalised (:data:`lib.codesign.JC_LIMIT`).
     """
     h = 100 * np.array([r["h"] for r in records])
     f, j_c, mass = (np.array([r[k] for r in records], dtype=float) for k in ("f", "J_c", "mass"))
+    valid = np.isfinite(j_c) & (j_c <= jc_limit)
     fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-    axes[0].plot(h, f, "k.-", label="dense grid")
-    axes[1].plot(h, np.where(np.isfinite(j_c), j_c, np.nan), "C3.-", label="dense grid")
+    axes[0].plot(h[valid], f[valid], "k.-", label="dense grid")
+    if not valid.all():
+        top = np.nanmax(f[valid]) * 1.05 if valid.any() else np.nanmax(f)
+        axes[0].plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False, label="penalised (failed or $J_c > 2$)")
+    axes[1].plot(h[valid], j_c[valid], "C3.-", label="dense grid")
     axes[1].axhline(0.9, color="k", ls=":", label="target 0.9")
     if best is not None:
         axes[0].plot(100 * best["h"], best["f"], "o", color="gold", mec="k", label="PSO best")
