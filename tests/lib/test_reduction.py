@@ -54,3 +54,8 @@ def test_models_at_matches_the_naive_reduction(monkeypatch):
     for model, ref in ((fast.g_r, ref_r), (fast.g_check, ref_spill)):
         g = ports.frequency_response(model.a, model.b, model.c, model.d, omega)
         assert _rel_err(g, ports.frequency_response(*ref.reduced, omega)) < 1e-8
+
+
+def test_models_at_rejects_unordered_cut_frequencies():
+    with pytest.raises(ValueError, match="omega_min < omega_max < omega_spill"):
+        design.models_at(0.02, omega_max=2e4)
