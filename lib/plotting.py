@@ -121,7 +121,7 @@ def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, titl
         penalised or failed points (``J_c`` infinite or above ``jc_limit``) are marked at the top of the f panel (their
         ``f^n``, the mass plus the penalty, would squash the valid curve) and left out of the J_c panel.
     best : mapping, optional
-        The swarm's best particle (same keys), marked on the f and J_c panels.
+        The swarm's best particle (same keys), marked on the f and J_c panels (left out if it is itself penalised).
     title : str
         Prefix of the panel titles.
     jc_limit : float
@@ -134,10 +134,10 @@ def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, titl
     axes[0].plot(h[valid], f[valid], "k.-", label="dense grid")
     if not valid.all():
         top = np.nanmax(f[valid]) * 1.05 if valid.any() else np.nanmax(f)
-        axes[0].plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False, label="penalised (failed or $J_c > 2$)")
+        axes[0].plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False, label=f"penalised (failed or $J_c > {jc_limit:g}$)")
     axes[1].plot(h[valid], j_c[valid], "C3.-", label="dense grid")
     axes[1].axhline(0.9, color="k", ls=":", label="target 0.9")
-    if best is not None:
+    if best is not None and np.isfinite(float(best["J_c"])) and float(best["J_c"]) <= jc_limit:
         axes[0].plot(100 * best["h"], best["f"], "o", color="gold", mec="k", label="PSO best")
         axes[1].plot(100 * best["h"], best["J_c"], "o", color="gold", mec="k", label="PSO best")
     axes[2].plot(h, mass, "C0.-")

@@ -11,6 +11,7 @@ before it is dropped. A raw eigenvector basis is never used.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,8 +83,9 @@ def _sylvester_schur(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
     x, scale, info = linalg.lapack.dtrsyl(t1, t2, rhs, isgn=-1)
     if info < 0:
         raise ValueError(f"dtrsyl: argument {-info} is invalid")
-    # info = 1: T_1 and T_2 have close eigenvalues and were perturbed; the split selects disjoint sets of
-    # eigenvalues (|s| below and above a cut), so this only happens for poles on the cut itself
+    if info == 1:  # a kept and a removed pole within about eps ||T|| of each other: X is large and inaccurate
+        warnings.warn("the block-diagonalising Sylvester equation is nearly singular: a pole on one side of the cut "
+                      "(nearly) coincides with one on the other; move the cut frequency away from it", RuntimeWarning, stacklevel=3)
     return x / scale
 
 

@@ -1,9 +1,9 @@
 """The modal reduction's fast path against its naive reference.
 
 ``lib.reduction`` solves the block-diagonalising Sylvester equation with LAPACK ``dtrsyl`` on the Schur blocks it
-already has, and ``lib.design.models_at`` residualises ``G_r`` from the spillover model instead of from ``G_r_low``.
-Both are checked here against the straightforward computation (scipy's ``solve_sylvester``, ``G_r`` from
-``G_r_low``), on the frequency response of every channel.
+already has, and ``lib.design.models_at`` no longer splits the slow part of ``G_r_low`` again before each cut. Both
+are checked here against the straightforward computation (scipy's ``solve_sylvester``, ``modal_reduction`` of
+``G_r_low``), on the frequency response of every input-output entry.
 """
 
 from __future__ import annotations
@@ -13,11 +13,15 @@ import pytest
 from scipy import linalg
 
 from lib import design, ports, reduction
+from lib.cube import cube_cccc_ffff
+from lib.titop import Section
 
 
 def _rel_err(g: np.ndarray, ref: np.ndarray) -> float:
-    """Largest error over frequency, relative to the response's largest entry at that frequency."""
-    return float(max(np.abs(g[:, :, i] - ref[:, :, i]).max() / np.abs(ref[:, :, i]).max() for i in range(ref.shape[2])))
+    """Largest error of every input-output entry over frequency, relative to that entry's own largest magnitude (an
+    entry that is zero at every frequency, up to 1e-14 of the largest entry, is compared in absolute terms there)."""
+    scale = np.maximum(np.abs(ref).max(axis=2), 1e-14 * np.abs(ref).max())
+    return float((np.abs(g - ref).max(axis=2) / scale).max())
 
 
 def test_sylvester_on_schur_blocks_matches_scipy():
@@ -32,6 +36,20 @@ def test_sylvester_on_schur_blocks_matches_scipy():
     assert np.max(np.abs(x - ref)) < 1e-9 * np.max(np.abs(ref))
 
 
+def test_sylvester_warns_when_the_blocks_share_a_pole():
+    with pytest.warns(RuntimeWarning, match="nearly singular"):
+        reduction._sylvester_schur(np.array([[1.0]]), np.array([[1.0]]), np.array([[1.0]]))
+
+
+def test_slow_poles_are_spurious_only_once_the_hub_closes_the_loop():
+    """The 108 slow poles of a cube with imposed base accelerations carry an input-output contribution of order 1
+    (the motion the imposed accelerations integrate to), so they cannot be removed on the cube; in the spacecraft G
+    the 540 of the truss contribute at round-off level (tests/lib/test_spacecraft.py)."""
+    cube = cube_cccc_ffff(Section.square(0.015))
+    split = reduction.split_slow(cube.a, cube.b, cube.c, cube.d)
+    assert split.n_slow == 108 and split.contribution > 0.1
+
+
 def test_residualize_above_rejects_a_bad_cut():
     a = -np.eye(2)
     with pytest.raises(ValueError, match="omega_max"):
@@ -40,7 +58,8 @@ def test_residualize_above_rejects_a_bad_cut():
 
 def test_models_at_matches_the_naive_reduction(monkeypatch):
     """G_r and the spillover model of ``models_at`` against G_r_low reduced with scipy's Sylvester solver: the
-    same response on every channel (Delta channels open) to 1e-8, at the modes and between them."""
+    same response on every entry (Delta channels open), relative to the entry's own size, to 1e-10, at the modes and
+    between them."""
     h = 0.015
     fast = design.models_at(h)
     monkeypatch.setattr(reduction, "_sylvester_schur", lambda t1, t2, rhs: linalg.solve_sylvester(t1, -t2, rhs))
@@ -53,7 +72,7 @@ def test_models_at_matches_the_naive_reduction(monkeypatch):
     omega = np.r_[np.geomspace(0.05, 3e3, 60), poles[(poles > 0.05) & (poles < 500)][::7]]
     for model, ref in ((fast.g_r, ref_r), (fast.g_check, ref_spill)):
         g = ports.frequency_response(model.a, model.b, model.c, model.d, omega)
-        assert _rel_err(g, ports.frequency_response(*ref.reduced, omega)) < 1e-8
+        assert _rel_err(g, ports.frequency_response(*ref.reduced, omega)) < 1e-10
 
 
 def test_models_at_rejects_unordered_cut_frequencies():
