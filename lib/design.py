@@ -78,11 +78,11 @@ def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, om
     low_h, high_h = p["truss"]["h_range"]
     if not (isinstance(h, (int, float, np.floating)) and low_h - 1e-12 <= h <= high_h + 1e-12):
         raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
-    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).lft.grouped()
-    t_build = time.perf_counter() - t0
     if not omega_min < omega_max < omega_spill:
         raise ValueError(f"the frequencies must satisfy omega_min < omega_max < omega_spill [rad/s], got {omega_min!r}, "
                          f"{omega_max!r}, {omega_spill!r}")
+    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).lft.grouped()
+    t_build = time.perf_counter() - t0
     low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min)
     g_low = LFT(*low.reduced, lft.blocks, lft.params)
     # G_r_low is free of slow poles: residualise it at omega_spill and at omega_max, without splitting off (and
