@@ -89,6 +89,12 @@ def _sylvester_schur(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
     return x / scale
 
 
+def _sylvester_general(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
+    """The same equation by scipy's general solver (which computes both Schur forms again): the naive path that
+    :func:`_sylvester_schur` is tested and benchmarked against (substituted for it there)."""
+    return linalg.solve_sylvester(t1, -t2, rhs)
+
+
 def split_slow(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: float = 0.01) -> SlowSplit:
     """Split a model into its slow (|s| < ``omega_min`` rad/s) and fast parts.
 
