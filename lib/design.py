@@ -16,6 +16,7 @@ analysed on ``G_r_low`` over the whole box (notebook 08).
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,7 +27,7 @@ from .closedloop import LoopSettings
 from .lft import LFT
 from .synthesis import Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "models_at", "open_loop_worst_case", "robust_design"]
+__all__ = ["DesignModels", "models_at", "open_loop_worst_case", "robust_design", "truss_variants"]
 
 
 @dataclass
@@ -101,8 +102,29 @@ def open_loop_worst_case(models: DesignModels, settings: LoopSettings | None = N
     return worst_case(models.g_r, np.zeros((4, 8)), models.inertia, settings or LoopSettings.from_parameters(), **kwargs)
 
 
+def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict | None = None) -> list[DesignModels]:
+    """The models of the same spacecraft with its truss section side moved by the relative ``shifts`` (beyond the paper).
+
+    A proxy for an error of the truss model: at ``h (1 + shift)`` every bending frequency of the members moves by
+    ``1 + shift`` (bending stiffness ~ h^4, mass ~ h^2; axial and torsional frequencies do not depend on h), as in the
+    truss-shift study of notebook 08. Each variant carries its own rigid inertia (its ACS is re-tuned, as for any design
+    at that h).
+
+    Raises
+    ------
+    ValueError
+        If a shift is not a finite number in (-0.5, 0.5), or moves h out of the design range [m].
+    """
+    out = []
+    for shift in shifts:
+        if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and abs(shift) < 0.5):
+            raise ValueError(f"each truss shift must be a relative change in (-0.5, 0.5), got {shift!r}")
+        out.append(models_at(models.h * (1.0 + float(shift)), params, models.omega_max))
+    return out
+
+
 def robust_design(models: DesignModels, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
-                  spillover: bool = True, **kwargs) -> SynthesisResult:
+                  spillover: bool = True, variants: Sequence[DesignModels] = (), **kwargs) -> SynthesisResult:
     """Robust structured synthesis of ``K_PMA`` at the design point (:func:`lib.synthesis.synthesize` on ``G_r``).
 
     Parameters
@@ -115,10 +137,15 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
         Add the nominal closed loop on ``models.g_check`` (``G_r_low`` up to 1e4 rad/s) as a stability-only model
         (see the module docstring), whose modes above the cut frequency of ``G_r`` must keep a damping ratio of
         ``min_damping`` (default 5e-4).
+    variants : sequence of DesignModels
+        Further models the gain must serve as well (e.g. :func:`truss_variants`): their ``G_r`` enter the synthesis as
+        variants of the scenario set (see :func:`lib.synthesis.synthesize`) and, with ``spillover``, their nominal
+        spillover loops as stability-only models. Default none: the paper's synthesis.
     **kwargs
         Passed to :func:`lib.synthesis.synthesize`.
     """
     settings = settings or LoopSettings.from_parameters()
-    checks = [plant_at(models.g_check, Scenario(), models.inertia, settings)] if spillover else []
+    checks = [plant_at(m.g_check, Scenario(), m.inertia, settings) for m in (models, *variants)] if spillover else []
     kwargs.setdefault("omega_check", models.omega_max)
-    return synthesize(models.g_r, models.inertia, settings, gain0=gain0, stability_models=checks, **kwargs)
+    return synthesize(models.g_r, models.inertia, settings, gain0=gain0, stability_models=checks,
+                      variants=[(m.g_r, m.inertia) for m in variants], **kwargs)

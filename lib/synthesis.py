@@ -416,6 +416,18 @@ def _simplex(x0: NDArray) -> NDArray:
 
 
 # ----------------------------------------------------------------------------- the synthesis
+def _merge(found: Sequence[WorstCase]) -> WorstCase:
+    """One worst case from the searches of several open loops (the loop itself is not recorded: the scenario of each group
+    is the one of the loop where it is worst)."""
+    if len(found) == 1:
+        return found[0]
+    value, scenario, omega = {}, {}, {}
+    for group in GROUPS:
+        top = max(found, key=lambda w: w.value[group])
+        value[group], scenario[group], omega[group] = top.value[group], top.scenario[group], top.omega[group]
+    return WorstCase(value, scenario, omega, sum(w.evaluations for w in found), [sc for w in found for sc in w.unstable])
+
+
 @dataclass
 class SynthesisResult:
     """Outcome of :func:`synthesize`.
@@ -530,7 +542,7 @@ def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, N
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
                scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
-               min_damping: float = 5e-4, omega_check: float = 500.0, min_damping_all: float = 2e-4,
+               variants: Sequence[tuple[LFT, ArrayLike]] = (), min_damping: float = 5e-4, omega_check: float = 500.0, min_damping_all: float = 2e-4,
                search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
                min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
@@ -552,6 +564,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         Plants whose closed-loop stability is a hard constraint but whose norms are not optimised: e.g. the
         nominal ``G_r_low`` plant (all flexible modes), so that the gain does not destabilise the modes that
         ``G_r`` residualises (spillover). Their least damped poles enter the local model as linear constraints.
+    variants : sequence of (LFT, array_like (3, 3)) pairs
+        Further uncertain open loops, each with the rigid inertia at P1 its ACS is designed on [kg m^2], that the gain
+        must serve as well as ``model``: e.g. the spacecraft with its truss frequencies shifted by a model error
+        (:func:`lib.design.robust_design`, ``variants``). Every scenario of the set is evaluated on ``model`` and on every
+        variant, and the worst-case search covers each of them. Default none: the paper's synthesis, unchanged.
     min_damping, omega_check : float
         Damping ratio that every pole of the stability models above ``omega_check`` [rad/s] (the modes ``G_r``
         residualises) must keep (default 5e-4, half the truss damping; they have at least 7e-4 with the PMAs
@@ -593,11 +610,20 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
         raise ValueError(f"gain0 must be a finite 4x8 matrix, got shape {gain.shape}")
+    for i, variant in enumerate(variants):
+        if not (isinstance(variant, tuple) and len(variant) == 2 and isinstance(variant[0], LFT)):
+            raise TypeError(f"variants[{i}] must be a pair (LFT, inertia at P1), got {type(variant).__name__}")
+        if np.shape(variant[1]) != (3, 3):
+            raise ValueError(f"variants[{i}]: the inertia at P1 must be a 3x3 matrix [kg m^2], got shape {np.shape(variant[1])}")
     scen = list(default_scenarios() if scenarios is None else scenarios)
+    loops = [(model, inertia_p1)] + [(m, inertia) for m, inertia in variants]
     worst: WorstCase | None = None
     message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
     with _workers(workers) as pmap:
-        prob = _Problem(list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), scen)), list(stability_models), pmap,
+        def plants_for(scs: Sequence[Scenario]) -> list[GeneralizedPlant]:
+            return list(pmap(lambda job: plant_at(job[0][0], job[1], job[0][1], settings), [(lp, sc) for lp in loops for sc in scs]))
+
+        prob = _Problem(plants_for(scen), list(stability_models), pmap,
                         min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
                         min_damping_all, chunk=_n_workers(workers))
         for round_ in range(max_rounds):
@@ -607,8 +633,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                 break
             state, at_limit = _optimise(prob, state)
             gain = state.gain
-            worst = worst_case(model, gain, inertia_p1, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
-                               min_damping=search_damping * min_damping_all)
+            worst = _merge([worst_case(m, gain, inertia, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
+                                       min_damping=search_damping * min_damping_all) for m, inertia in loops])
             prob.evaluations += worst.evaluations
             added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin)
             if verbose:
@@ -624,7 +650,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                 continue
             message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
             scen += added
-            prob.plants += list(pmap(lambda sc: plant_at(model, sc, inertia_p1, settings), added))
+            prob.plants += plants_for(added)
         final = prob.evaluate(gain)
     j_c = max(final.value("rpe"), worst.value["rpe"] if worst else 0.0)
     z_c = max(final.value("effort"), worst.value["effort"] if worst else 0.0)

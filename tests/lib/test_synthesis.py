@@ -163,3 +163,34 @@ def test_lazy_cap_gives_the_same_decision(model, inertia, monkeypatch):
             assert bool(calls) == (factor > 1)  # the cap is computed only when the uncapped requirement fails
             outcomes.add(eager.stable)
     assert outcomes == {True, False}  # both decisions exercised
+
+
+def test_merged_worst_case_takes_each_group_from_the_loop_where_it_is_worst():
+    """The search of a synthesis with variants (several open loops): per group the largest value with its scenario and
+    frequency, every unstable scenario of every loop, the evaluations summed; one loop is returned unchanged."""
+    a_sc, b_sc, u_sc = Scenario(-1.0, 0.0, 0.0, 0.3), Scenario(1.0, 1.0, -1.0, 2.0), Scenario(0.5, 0.5, 0.5, 1.0)
+    a = synthesis.WorstCase({"rpe": 0.03, "effort": 0.9}, {"rpe": a_sc, "effort": a_sc}, {"rpe": 4.1, "effort": 3.7}, 200)
+    b = synthesis.WorstCase({"rpe": 0.05, "effort": 0.4}, {"rpe": b_sc, "effort": b_sc}, {"rpe": 420.0, "effort": 161.0}, 180, [u_sc])
+    m = synthesis._merge([a, b])
+    assert m.value == {"rpe": 0.05, "effort": 0.9} and m.omega == {"rpe": 420.0, "effort": 3.7}
+    assert m.scenario["rpe"] is b_sc and m.scenario["effort"] is a_sc
+    assert m.evaluations == 380 and m.unstable == [u_sc]
+    assert synthesis._merge([a]) is a
+
+
+def test_bad_variants(model, inertia):
+    with pytest.raises(TypeError, match=r"variants\[0\]"):
+        synthesis.synthesize(model, inertia, ST, variants=[model])
+    with pytest.raises(ValueError, match=r"variants\[1\].*3x3"):
+        synthesis.synthesize(model, inertia, ST, variants=[(model, inertia), (model, np.eye(2))])
+
+
+def test_truss_variants_refuse_bad_shifts():
+    from lib import design
+
+    base = design.DesignModels(0.015, None, None, None, np.eye(3), 45.8, 0.0)
+    for bad in (0.6, float("nan"), "0.01"):
+        with pytest.raises(ValueError, match="relative change"):
+            design.truss_variants(base, [bad])
+    with pytest.raises(ValueError, match=r"h must be a section side in \[0.015, 0.03\] m"):
+        design.truss_variants(base, [-0.01])  # 1.485 cm: below the design range
