@@ -621,7 +621,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
     with _workers(workers) as pmap:
         def plants_for(scs: Sequence[Scenario]) -> list[GeneralizedPlant]:
-            return list(pmap(lambda job: plant_at(job[0][0], job[1], job[0][1], settings), [(lp, sc) for lp in loops for sc in scs]))
+            return list(pmap(lambda job: plant_at(job[0][0], job[1], job[0][1], settings), [(loop, sc) for loop in loops for sc in scs]))
 
         prob = _Problem(plants_for(scen), list(stability_models), pmap,
                         min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
