@@ -115,11 +115,17 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
     ValueError
         If a shift is not a finite number in (-0.5, 0.5), or moves h out of the design range [m].
     """
+    p = params or spacecraft.load_parameters()
+    low_h, high_h = p["truss"]["h_range"]
     out = []
     for shift in shifts:
         if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and abs(shift) < 0.5):
             raise ValueError(f"each truss shift must be a relative change in (-0.5, 0.5), got {shift!r}")
-        out.append(models_at(models.h * (1.0 + float(shift)), params, models.omega_max))
+        h_s = models.h * (1.0 + float(shift))
+        if not low_h - 1e-12 <= h_s <= high_h + 1e-12:
+            raise ValueError(f"the truss shift {shift:+g} moves h = {models.h} m to {h_s:.6g} m, outside the design range "
+                             f"[{low_h}, {high_h}] m: use shifts that keep h in the range")
+        out.append(models_at(h_s, p, models.omega_max))
     return out
 
 

@@ -192,5 +192,5 @@ def test_truss_variants_refuse_bad_shifts():
     for bad in (0.6, float("nan"), "0.01"):
         with pytest.raises(ValueError, match="relative change"):
             design.truss_variants(base, [bad])
-    with pytest.raises(ValueError, match=r"h must be a section side in \[0.015, 0.03\] m"):
+    with pytest.raises(ValueError, match=r"truss shift -0.01 moves h = 0.015 m to 0.01485 m, outside the design range \[0.015, 0.03\]"):
         design.truss_variants(base, [-0.01])  # 1.485 cm: below the design range
