@@ -110,17 +110,33 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
     truss-shift study of notebook 08. Each variant carries its own rigid inertia (its ACS is re-tuned, as for any design
     at that h).
 
+    Parameters
+    ----------
+    models : DesignModels
+        The nominal design point (its ``h`` and ``omega_max`` are used; the spillover cut is the default of
+        :func:`models_at`).
+    shifts : sequence of float
+        Relative changes of the section side, nonzero, in (-0.5, 0.5).
+    params : dict, optional
+        Spacecraft parameters (default :func:`lib.spacecraft.load_parameters`); pass the ones ``models`` was built with.
+
+    Returns
+    -------
+    list of DesignModels
+        One per shift, in the order given.
+
     Raises
     ------
     ValueError
-        If a shift is not a finite number in (-0.5, 0.5), or moves h out of the design range [m].
+        If a shift is zero (the nominal model itself), not a finite number in (-0.5, 0.5), or moves h out of the
+        design range [m].
     """
     p = params or spacecraft.load_parameters()
     low_h, high_h = p["truss"]["h_range"]
     out = []
     for shift in shifts:
-        if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and abs(shift) < 0.5):
-            raise ValueError(f"each truss shift must be a relative change in (-0.5, 0.5), got {shift!r}")
+        if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and 0 < abs(shift) < 0.5):
+            raise ValueError(f"each truss shift must be a nonzero relative change in (-0.5, 0.5), got {shift!r}")
         h_s = models.h * (1.0 + float(shift))
         if not low_h - 1e-12 <= h_s <= high_h + 1e-12:
             raise ValueError(f"the truss shift {shift:+g} moves h = {models.h} m to {h_s:.6g} m, outside the design range "

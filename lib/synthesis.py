@@ -438,13 +438,13 @@ class SynthesisResult:
         The PMA gain [N / (m/s^2) or N / (rad/s^2), through ``F_PMA``].
     j_c, z_c : float
         Worst-case ``||T_{p~->RPE}||_inf`` and ``||T_{p~->W~u}||_inf`` over the final scenario set and the
-        last worst-case search.
+        last worst-case search (on the model and on every variant, if any).
     success : bool
         Stable at every scenario, ``z_c < gamma_u``, and the optimiser converged.
     message : str
         Why it stopped (and what failed, if it did).
     scenarios : list of Scenario
-        The final scenario set (grown by the worst-case searches).
+        The final scenario set (grown by the worst-case searches; each scenario is evaluated on every variant too).
     worst : WorstCase
         The last worst-case search.
     iterations, time_s, evaluations : int, float, int
@@ -610,11 +610,12 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
         raise ValueError(f"gain0 must be a finite 4x8 matrix, got shape {gain.shape}")
+    variants = list(variants)
     for i, variant in enumerate(variants):
         if not (isinstance(variant, tuple) and len(variant) == 2 and isinstance(variant[0], LFT)):
             raise TypeError(f"variants[{i}] must be a pair (LFT, inertia at P1), got {type(variant).__name__}")
-        if np.shape(variant[1]) != (3, 3):
-            raise ValueError(f"variants[{i}]: the inertia at P1 must be a 3x3 matrix [kg m^2], got shape {np.shape(variant[1])}")
+        if np.shape(variant[1]) != (3, 3) or not np.all(np.isfinite(variant[1])):
+            raise ValueError(f"variants[{i}]: the inertia at P1 must be a finite 3x3 matrix [kg m^2], got shape {np.shape(variant[1])}")
     scen = list(default_scenarios() if scenarios is None else scenarios)
     loops = [(model, inertia_p1)] + [(m, inertia) for m, inertia in variants]
     worst: WorstCase | None = None
@@ -638,7 +639,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             prob.evaluations += worst.evaluations
             added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin)
             if verbose:
-                print(f"round {round_}: {len(prob.plants)} scenarios, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
+                print(f"round {round_}: {len(prob.plants)} scenario plants, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
                       f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
                       f"({time.perf_counter() - t0:.1f} s)")
             if not added and not at_limit:

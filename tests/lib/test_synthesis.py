@@ -183,14 +183,65 @@ def test_bad_variants(model, inertia):
         synthesis.synthesize(model, inertia, ST, variants=[model])
     with pytest.raises(ValueError, match=r"variants\[1\].*3x3"):
         synthesis.synthesize(model, inertia, ST, variants=[(model, inertia), (model, np.eye(2))])
+    with pytest.raises(ValueError, match=r"variants\[0\].*finite"):
+        synthesis.synthesize(model, inertia, ST, variants=[(model, np.full((3, 3), np.nan))])
 
 
 def test_truss_variants_refuse_bad_shifts():
     from lib import design
 
     base = design.DesignModels(0.015, None, None, None, np.eye(3), 45.8, 0.0)
-    for bad in (0.6, float("nan"), "0.01"):
-        with pytest.raises(ValueError, match="relative change"):
+    for bad in (0.6, float("nan"), "0.01", 0.0):
+        with pytest.raises(ValueError, match="nonzero relative change"):
             design.truss_variants(base, [bad])
     with pytest.raises(ValueError, match=r"truss shift -0.01 moves h = 0.015 m to 0.01485 m, outside the design range \[0.015, 0.03\]"):
         design.truss_variants(base, [-0.01])  # 1.485 cm: below the design range
+
+
+def test_variants_are_built_at_every_scenario_and_searched(monkeypatch, model, inertia):
+    """Wiring of ``variants`` (plants, searches and optimiser replaced by stand-ins): a plant per (loop, scenario), the
+    scenario a variant's search finds worse is added on every loop, each loop is searched in every round, and J_c is
+    the worst over all plants."""
+    inertia = np.asarray(inertia)
+    built, searched = [], []
+    s1, s2, s_new = Scenario(), Scenario(1.0, 1.0, 1.0, 0.5), Scenario(-1.0, 1.0, -1.0, 2.0)
+
+    def fake_plant(m, sc, inertia_p1, settings, keep=()):
+        built.append((float(inertia_p1[0, 0] / inertia[0, 0]), sc))
+        return len(built) - 1  # the plant is its index
+
+    def fake_peaks(p, gain, **kwargs):  # J grows with the plant index, every plant stable
+        return synthesis.LoopPeaks({"rpe": [(0.01 * (1 + p), 1.0)], "effort": [(0.1, 2.0)]}, -1.0, True)
+
+    def fake_search(m, gain, inertia_p1, settings, thetas=None, **kwargs):
+        scale = float(inertia_p1[0, 0] / inertia[0, 0])
+        searched.append(scale)
+        worse = scale == 2.0 and len(searched) <= 2  # the variant's first search finds a worse scenario
+        return synthesis.WorstCase({"rpe": 1.0 if worse else 0.001, "effort": 0.1}, {"rpe": s_new if worse else s1, "effort": s1},
+                                   {"rpe": 3.0, "effort": 2.0}, 10)
+
+    monkeypatch.setattr(synthesis, "plant_at", fake_plant)
+    monkeypatch.setattr(synthesis, "loop_peaks", fake_peaks)
+    monkeypatch.setattr(synthesis, "worst_case", fake_search)
+    monkeypatch.setattr(synthesis, "_optimise", lambda prob, state: (state, False))
+    res = synthesis.synthesize(model, inertia, ST, scenarios=[s1, s2], variants=[(model, 2.0 * inertia)], workers=1)
+    assert built == [(1.0, s1), (1.0, s2), (2.0, s1), (2.0, s2), (1.0, s_new), (2.0, s_new)]
+    assert searched == [1.0, 2.0, 1.0, 2.0]
+    assert res.scenarios == [s1, s2, s_new] and res.message.startswith("converged")
+    assert res.success and np.isclose(res.j_c, 0.06)  # plant 5: the variant at the added scenario
+
+
+def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
+    from lib import design
+
+    seen = {}
+    monkeypatch.setattr(design, "plant_at", lambda m, sc, inertia, settings: ("plant", m))
+    monkeypatch.setattr(design, "synthesize", lambda g_r, inertia, settings, **kw: seen.update(kw, g_r=g_r))
+    base = design.DesignModels(0.02, "G_r", "G_r_low", "check", np.eye(3), 60.0, 0.0)
+    shifted = design.DesignModels(0.0202, "G_r+1%", "G_r_low+1%", "check+1%", 2 * np.eye(3), 61.2, 0.0)
+    design.robust_design(base, ST, variants=[shifted])
+    assert seen["stability_models"] == [("plant", "check"), ("plant", "check+1%")]
+    assert seen["g_r"] == "G_r" and len(seen["variants"]) == 1 and seen["variants"][0][0] == "G_r+1%"
+    assert np.array_equal(seen["variants"][0][1], 2 * np.eye(3)) and seen["omega_check"] == 500.0
+    design.robust_design(base, ST, variants=[shifted], spillover=False)
+    assert seen["stability_models"] == []
