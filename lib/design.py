@@ -16,7 +16,7 @@ analysed on ``G_r_low`` over the whole box (notebook 08).
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +27,8 @@ from .closedloop import LoopSettings
 from .lft import LFT
 from .synthesis import Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "models_at", "open_loop_worst_case", "robust_design", "truss_variants"]
+__all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "truss_shift_check",
+           "truss_variants"]
 
 
 @dataclass
@@ -65,6 +66,13 @@ class DesignModels:
     assembly_time_s: float = 0.0
 
 
+def in_design_range(h: float, params: dict | None = None) -> bool:
+    """Whether the section side ``h`` [m] lies in the design range of the parameters (paper: [0.015, 0.03] m), to
+    1e-12 m."""
+    low_h, high_h = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    return bool(low_h - 1e-12 <= h <= high_h + 1e-12)
+
+
 def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, omega_min: float = 0.01,
               omega_spill: float = 1e4) -> DesignModels:
     """Build ``G_r`` and ``G_r_low`` at section side h [m] (one assembly, one slow-pole split).
@@ -77,7 +85,7 @@ def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, om
     t0 = time.perf_counter()
     p = params or spacecraft.load_parameters()
     low_h, high_h = p["truss"]["h_range"]
-    if not (isinstance(h, (int, float, np.floating)) and low_h - 1e-12 <= h <= high_h + 1e-12):
+    if not (isinstance(h, (int, float, np.floating)) and in_design_range(h, p)):
         raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
     if not omega_min < omega_max < omega_spill:
         raise ValueError(f"the frequencies must satisfy omega_min < omega_max < omega_spill [rad/s], got {omega_min!r}, "
@@ -138,11 +146,68 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
         if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and 0 < abs(shift) < 0.5):
             raise ValueError(f"each truss shift must be a nonzero relative change in (-0.5, 0.5), got {shift!r}")
         h_s = models.h * (1.0 + float(shift))
-        if not low_h - 1e-12 <= h_s <= high_h + 1e-12:
+        if not in_design_range(h_s, p):
             raise ValueError(f"the truss shift {shift:+g} moves h = {models.h} m to {h_s:.6g} m, outside the design range "
                              f"[{low_h}, {high_h}] m: use shifts that keep h in the range")
         out.append(models_at(h_s, p, models.omega_max))
     return out
+
+
+def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence[float], settings: LoopSettings | None = None,
+                      spillover: bool = False, params: dict | None = None,
+                      progress: Callable[[Iterable], Iterable] = iter) -> tuple[list[dict], list[float]]:
+    """Worst case of designs at ``h`` [m] on the spacecraft with its truss section side moved by each relative shift.
+
+    The proxy of :func:`truss_variants`: at ``h (1 + shift)`` the spacecraft is rebuilt (its ACS re-tuned on its rigid
+    inertia) and the gains are kept; the worst case over the uncertainty box is searched on ``G_r``
+    (:func:`lib.synthesis.worst_case`). Shift 0 (the designs on their own truss) is always included.
+
+    Parameters
+    ----------
+    h : float
+        Section side of the designs [m].
+    gains : mapping of str to array_like (4, 8)
+        The PMA gains checked, by name.
+    shifts : sequence of float
+        Relative changes of the section side.
+    settings : LoopSettings, optional
+    spillover : bool
+        Also require the nominal spillover loop (``G_r_low`` up to 1e4 rad/s) of the shifted spacecraft to be stable.
+    params : dict, optional
+        Spacecraft parameters (default :func:`lib.spacecraft.load_parameters`).
+    progress : callable
+        Wraps the iterable of shifts (e.g. a tqdm progress bar).
+
+    Returns
+    -------
+    rows : list of dict
+        One per checked shift and gain: ``design``, ``shift_pct`` [%], ``h_cm`` [cm], ``J_c``, ``omega_J_rad_s``, ``Z_c``,
+        ``unstable_box_points``, ``evaluations``, ``spillover_stable`` (with ``spillover``) and ``valid`` (no unstable
+        box point, ``Z_c < gamma_u`` and, with ``spillover``, a stable spillover loop).
+    skipped : list of float
+        The shifts that move h out of the design range (not checked).
+    """
+    settings = settings or LoopSettings.from_parameters()
+    p = params or spacecraft.load_parameters()
+    rows: list[dict] = []
+    skipped: list[float] = []
+    for rel in progress(sorted({0.0, *shifts})):
+        h_s = h * (1 + rel)
+        if not in_design_range(h_s, p):
+            skipped.append(rel)
+            continue
+        m_s = models_at(h_s, p)
+        for name, gain in gains.items():
+            wc = worst_case(m_s.g_r, gain, m_s.inertia, settings)
+            row = {"design": name, "shift_pct": 100 * rel, "h_cm": 100 * h_s, "J_c": wc.value["rpe"], "omega_J_rad_s": wc.omega["rpe"],
+                   "Z_c": wc.value["effort"], "unstable_box_points": len(wc.unstable), "evaluations": wc.evaluations}
+            valid = not wc.unstable and wc.value["effort"] < settings.gamma_u
+            if spillover:
+                loop = plant_at(m_s.g_check, Scenario(), m_s.inertia, settings)
+                row["spillover_stable"] = bool(loop.closed_loop_poles(gain).real.max() < 0)
+                valid = valid and row["spillover_stable"]
+            rows.append({**row, "valid": bool(valid)})
+    return rows, skipped
 
 
 def robust_design(models: DesignModels, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,

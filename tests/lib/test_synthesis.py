@@ -245,3 +245,38 @@ def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
     assert np.array_equal(seen["variants"][0][1], 2 * np.eye(3)) and seen["omega_check"] == 500.0
     design.robust_design(base, ST, variants=[shifted], spillover=False)
     assert seen["stability_models"] == []
+
+
+def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
+    """Stand-in models and searches: shift 0 always checked, shifts leaving the design range skipped, a row per gain
+    and shift, valid = no unstable box point, Z_c < gamma_u and (with spillover) a stable spillover loop."""
+    from lib import design
+
+    built = []
+
+    def fake_models(h, params=None):
+        built.append(round(h, 12))
+        return design.DesignModels(h, ("G_r", h), None, ("check", h), np.eye(3), 0.0, 0.0)
+
+    class Loop:
+        def __init__(self, h):
+            self.h = h
+
+        def closed_loop_poles(self, gain):
+            return np.array([1.0 if self.h > 0.0155 else -1.0])  # the spillover loop is unstable above 1.55 cm
+
+    def fake_search(g_r, gain, inertia, settings):
+        z = 2.0 if gain[0, 0] > 0 else 0.5
+        return synthesis.WorstCase({"rpe": 0.02, "effort": z}, {"rpe": Scenario(), "effort": Scenario()}, {"rpe": 4.0, "effort": 3.0}, 7)
+
+    monkeypatch.setattr(design, "models_at", fake_models)
+    monkeypatch.setattr(design, "worst_case", fake_search)
+    monkeypatch.setattr(design, "plant_at", lambda m, sc, inertia, settings: Loop(m[1]))
+    gains = {"ok": -np.ones((4, 8)), "too much effort": np.ones((4, 8))}
+    rows, skipped = design.truss_shift_check(0.015, gains, [-0.02, 0.04], ST, spillover=True)
+    assert skipped == [-0.02] and built == [0.015, 0.0156]
+    assert [(r["design"], round(r["shift_pct"], 9), r["valid"]) for r in rows] == [
+        ("ok", 0.0, True), ("too much effort", 0.0, False), ("ok", 4.0, False), ("too much effort", 4.0, False)]
+    assert rows[2]["spillover_stable"] is False and rows[0]["evaluations"] == 7
+    rows, _ = design.truss_shift_check(0.015, gains, [0.04], ST)  # without the spillover check
+    assert "spillover_stable" not in rows[0] and [r["valid"] for r in rows] == [True, False, True, False]
