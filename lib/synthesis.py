@@ -44,6 +44,7 @@ from threadpoolctl import threadpool_limits
 from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from .lft import LFT
+from .modalloop import ModalLoop
 
 __all__ = ["ALGORITHM", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
            "plant_at", "default_scenarios", "exact_norms", "sigma_curve"]
@@ -196,7 +197,7 @@ def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> N
 
 def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[float, float] = (1e-2, 3e3), n_log: int = 120,
                n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS, min_damping: float = 0.0,
-               lazy_cap: bool = False) -> LoopPeaks:
+               lazy_cap: bool = False, modal: ModalLoop | None = None) -> LoopPeaks:
     """Peaks of ``sigma_max(T_{p~ -> group}(jw))`` of the closed loop, on a peak-aware grid, refined.
 
     Parameters
@@ -223,19 +224,46 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         requirement fails. ``stable`` is the same either way (the cap only lowers the requirement); ``abscissa`` and
         the margins of ``eigen`` then hold the uncapped requirement whenever it is met. For callers that use only
         ``stable`` and the peaks (the worst-case search, whose plants are new at every call).
+    modal : lib.modalloop.ModalLoop, optional
+        The plant's open-loop modal form: poles by the Aberth iteration and responses from the open-loop modal
+        form, ``O(n^2)`` per gain instead of a dense eigen-decomposition (``O(n^3)``); the top peaks are then not
+        re-checked by a direct solve (the tests compare both paths on the spacecraft plants).
     """
     if plant.n_delta:
         raise ValueError("loop_peaks needs a plant without open Delta channels (substitute the uncertain parameters)")
-    a, b, c, d = plant.closed_loop(gain)
+    k = plant._check_gain(gain)
     sl = plant.slices()
-    b, d = b[:, sl["p"]], d[:, sl["p"]]
-    lam, vec = np.linalg.eig(a)
+    ne, nr = plant.n_exo, plant.n_reg
+    if modal is None:
+        a, b, c, d = plant.closed_loop(k)
+        b, d = b[:, sl["p"]], d[:, sl["p"]]
+        lam, vec = np.linalg.eig(a)
+        cv_all, vb = c @ vec, np.linalg.solve(vec, b)
+
+        def sigma(group: str, w: NDArray) -> NDArray:
+            return _sv_max(cv_all[sl[group]], lam, vb, d[sl[group]], w)
+    else:
+        lam = modal.poles(k)
+        response = modal.responder(k)
+        rows = {g: slice(sl[g].start - plant.n_delta, sl[g].stop - plant.n_delta) for g in GROUPS}
+        on_grid: dict[str, NDArray] = {}  # both groups from one evaluation on the grid
+
+        def sigma(group: str, w: NDArray) -> NDArray:
+            if w is grid and group in on_grid:
+                return on_grid[group]
+            t = response(w)
+            if w is grid:
+                on_grid.update({g: np.linalg.svd(t[:, rows[g]], compute_uv=False)[:, 0] for g in GROUPS})
+                return on_grid[group]
+            return np.linalg.svd(t[:, rows[group]], compute_uv=False)[:, 0]
     if min_damping > 0 and not (lazy_cap and lam.size and np.max(lam.real + min_damping * np.abs(lam)) < -min_decay):
         min_damping = min(min_damping, 0.5 * plant.passive_damping())
-    ne, nr = plant.n_exo, plant.n_reg
-    eigen = _Eigen(lam, vec, lam.real + min_damping * np.abs(lam), plant.b[:, ne:], plant.c[nr:, :])
+    value = lam.real + min_damping * np.abs(lam)
+    if modal is None:
+        eigen = _Eigen.dense(lam, vec, value, plant.b[:, ne:], plant.c[nr:, :])
+    else:
+        eigen = _Eigen(lam, value, lambda: modal.pole_data(k, lam))
     abscissa = eigen.margin if lam.size else -np.inf
-    cv_all, vb = c @ vec, np.linalg.solve(vec, b)
     wn = np.abs(lam)
     zeta = -lam.real / np.maximum(wn, 1e-300)
     wd = np.abs(lam.imag)
@@ -245,40 +273,41 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     out: dict[str, list[tuple[float, float]]] = {}
     checked = 0.0
     for group in groups:
-        cv, dg = cv_all[sl[group]], d[sl[group]]
-        s = _sv_max(cv, lam, vb, dg, grid)
+        s = sigma(group, grid)
         interior = np.flatnonzero((s[1:-1] >= s[:-2]) & (s[1:-1] >= s[2:])) + 1
         cand = np.r_[interior, [0, grid.size - 1]]
         cand = cand[np.argsort(s[cand])[::-1]][:n_peaks]
         peaks = []
         for i in cand:
             if 0 < i < grid.size - 1 and s[i] >= 0.5 * s[cand[0]]:  # refine the peaks that can matter
-                val, lw = _zoom_max(lambda x: _sv_max(cv, lam, vb, dg, np.exp(x)), np.log(grid[i - 1]), np.log(grid[i + 1]))
+                val, lw = _zoom_max(lambda x: sigma(group, np.exp(x)), np.log(grid[i - 1]), np.log(grid[i + 1]))
                 peaks.append((max(val, float(s[i])), float(np.exp(lw)) if val >= s[i] else float(grid[i])))
             else:
                 peaks.append((float(s[i]), float(grid[i])))
         peaks.sort(reverse=True)
-        # check the top peak against a direct solve (modal form can lose accuracy for close poles)
-        w0 = peaks[0][1]
-        ref = dg + c[sl[group]] @ np.linalg.solve(1j * w0 * np.eye(a.shape[0]) - a, b)
-        direct = float(np.linalg.svd(ref, compute_uv=False)[0])
-        checked = max(checked, abs(direct - peaks[0][0]) / max(direct, 1e-300))
-        if checked > 1e-6:
-            peaks[0] = (direct, w0)
+        if modal is None:  # check the top peak against a direct solve (modal form can lose accuracy for close poles)
+            w0 = peaks[0][1]
+            ref = d[sl[group]] + c[sl[group]] @ np.linalg.solve(1j * w0 * np.eye(a.shape[0]) - a, b)
+            direct = float(np.linalg.svd(ref, compute_uv=False)[0])
+            checked = max(checked, abs(direct - peaks[0][0]) / max(direct, 1e-300))
+            if checked > 1e-6:
+                peaks[0] = (direct, w0)
         out[group] = peaks
     return LoopPeaks(out, abscissa, abscissa < -min_decay, checked, eigen)
 
 
-def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: float) -> tuple[float, NDArray[np.float64]]:
+def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: float,
+                  modal: ModalLoop | None = None) -> tuple[float, NDArray[np.float64]]:
     """``sigma_max(T(jw))`` and its gradient with respect to the static gain K (4x8) at frequency ``omega``.
 
     With ``T = P_zp + P_zv K (I - P_yv K)^-1 P_yp``: ``dT = P_zv (I - K P_yv)^-1 dK (I - P_yv K)^-1 P_yp``,
     so ``d sigma = Re(u^H dT v)`` for the top singular pair ``(u, v)`` (a subgradient if sigma_max is multiple).
+    With ``modal`` (the plant's open-loop modal form, no Delta channels) ``P(j omega)`` comes from it.
     """
     k = np.asarray(gain, dtype=float)
     sl = plant.slices()
     nr, ne = plant.n_reg, plant.n_exo
-    p = plant.freqresp([omega])[:, :, 0]
+    p = plant.freqresp([omega])[:, :, 0] if modal is None or plant.n_delta else modal.open_loop(omega)
     p_zp, p_zv = p[sl[group], sl["p"]], p[sl[group], ne:]
     p_yp, p_yv = p[nr:, sl["p"]], p[nr:, ne:]
     left = p_zv @ np.linalg.inv(np.eye(k.shape[0]) - k @ p_yv)
@@ -291,13 +320,18 @@ def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: f
 
 @dataclass
 class _Eigen:
-    """Closed-loop eigen-decomposition of one plant, with its margin ``max(Re lambda + zeta_req |lambda|)``."""
+    """Closed-loop poles of one plant, with their margins ``value = Re lambda + zeta_req |lambda|`` and, computed
+    when first needed, ``vectors() = (w_i^H B_v rows (n x 4), C_y v_i columns (8 x n))`` for right/left
+    eigenvectors with ``w_i^H v_i = 1``."""
 
     lam: NDArray
-    vr: NDArray
     value: NDArray
-    b_v: NDArray
-    c_y: NDArray
+    vectors: Callable[[], tuple[NDArray, NDArray]]
+
+    @classmethod
+    def dense(cls, lam: NDArray, vr: NDArray, value: NDArray, b_v: NDArray, c_y: NDArray) -> "_Eigen":
+        """From a dense eigen-decomposition (right eigenvectors ``vr``) and the loop's ``B_v``, ``C_y``."""
+        return cls(lam, value, lambda: (np.linalg.solve(vr, b_v), c_y @ vr))
 
     @property
     def margin(self) -> float:
@@ -314,12 +348,11 @@ class _Eigen:
         radius``: a well-damped pole that is very sensitive to K can be the one a step destabilises (measured: a
         spillover mode at 1182 rad/s, not among the 8 least damped, went unstable at 1 % of |K|)."""
         mag = np.maximum(np.abs(self.lam), 1e-300)
-        left_b = np.linalg.solve(self.vr, self.b_v)  # rows: w_i^H B_v, for every pole
-        right_c = self.c_y @ self.vr  # columns: C_y v_i
+        left_b, right_c = self.vectors()  # rows w_i^H B_v, columns C_y v_i, for every pole
         zeta_req = (self.value - self.lam.real) / mag
         order = np.argsort(-self.value / mag)[:n]
         if radius is not None:
-            r = np.asarray(radius, dtype=float).reshape(self.b_v.shape[1], self.c_y.shape[0])
+            r = np.asarray(radius, dtype=float).reshape(left_b.shape[1], right_c.shape[0])
             reach = np.einsum("ij,jk,ki->i", np.abs(left_b), r, np.abs(right_c)) * (1.0 + zeta_req)
             order = np.r_[order, [i for i in np.argsort(-(self.value + reach))[:n] if i not in order]].astype(int)
         out = []
@@ -330,14 +363,21 @@ class _Eigen:
         return out
 
 
-def _eigen(plant: GeneralizedPlant, gain: NDArray, min_damping: float = 0.0, omega_check: float = 0.0) -> _Eigen:
+def _eigen(plant: GeneralizedPlant, gain: NDArray, min_damping: float = 0.0, omega_check: float = 0.0,
+           modal: ModalLoop | None = None) -> _Eigen:
     """Eigen-decomposition of the closed loop; ``value = Re lambda + zeta_req |lambda|`` with ``zeta_req = min_damping``
-    above ``omega_check`` [rad/s], else 0 (every value < 0: stable, and damped as required)."""
+    above ``omega_check`` [rad/s], else 0 (every value < 0: stable, and damped as required). With ``modal`` (the
+    plant's open-loop modal form) the poles come from :meth:`lib.modalloop.ModalLoop.poles`."""
     nr, ne = plant.n_reg, plant.n_exo
     b_v, c_y = plant.b[:, ne:], plant.c[nr:, :]
-    lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
+    if modal is None:
+        lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
+    else:
+        lam = modal.poles(gain)
     value = lam.real + np.where(np.abs(lam) > omega_check, min_damping, 0.0) * np.abs(lam)
-    return _Eigen(lam, vr, value, b_v, c_y)
+    if modal is None:
+        return _Eigen.dense(lam, vr, value, b_v, c_y)
+    return _Eigen(lam, value, lambda: modal.pole_data(gain, lam))
 
 
 # ----------------------------------------------------------------------------- worst case over the box
@@ -485,16 +525,18 @@ class _State:
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0,
               min_damping_all: float = 0.0, reject: Callable[[LoopPeaks], bool] | None = None,
-              order: Sequence[int] | None = None, chunk: int = 1) -> tuple[_State | None, int]:
+              order: Sequence[int] | None = None, chunk: int = 1,
+              modal: Callable[[GeneralizedPlant], ModalLoop | None] = lambda p: None) -> tuple[_State | None, int]:
     """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
     plants (skipped for a step that is rejected anyway). Returns the state and the number of plants evaluated.
+    ``modal`` gives a plant's open-loop modal form (the fast path), or None (the dense path).
 
     With ``reject``, the plants are evaluated in ``order``, ``chunk`` at a time, and the evaluation stops (returns
     None) as soon as one plant's peaks show that the step is rejected whatever the others give: a trial step then
     costs one or two plants instead of all. The decision is the same as after a full evaluation.
     """
     def peaks_of(p: GeneralizedPlant) -> LoopPeaks:
-        return loop_peaks(p, gain, min_decay=min_decay, min_damping=min_damping_all)
+        return loop_peaks(p, gain, min_decay=min_decay, min_damping=min_damping_all, modal=modal(p))
 
     if reject is None:
         peaks = list(pmap(peaks_of, plants))
@@ -509,18 +551,19 @@ def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, p
         peaks = [found[i] for i in range(len(plants))]
     state = _State(gain, peaks, [None] * len(checks), min_decay)
     if all(p.stable for p in peaks):
-        state.extra = list(pmap(lambda p: _eigen(p, gain, min_damping, omega_check), checks))
+        state.extra = list(pmap(lambda p: _eigen(p, gain, min_damping, omega_check, modal(p)), checks))
     return state, len(peaks)
 
 
-def _linearise(plants, state: _State, group: str, band: float) -> list[tuple[float, NDArray]]:
+def _linearise(plants, state: _State, group: str, band: float,
+               modal: Callable[[GeneralizedPlant], ModalLoop | None] = lambda p: None) -> list[tuple[float, NDArray]]:
     """Linearisations (value, gradient) of every peak of ``group`` above ``band`` times the current maximum."""
     top = state.value(group)
     rows = []
     for plant, lp in zip(plants, state.peaks):
         for val, w in lp.peaks[group]:
             if val >= band * top:
-                v, g = peak_gradient(plant, state.gain, group, w)
+                v, g = peak_gradient(plant, state.gain, group, w, modal(plant))
                 rows.append((v, g.ravel()))
     return rows
 
@@ -546,7 +589,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
                min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
-               verbose: bool = False) -> SynthesisResult:
+               verbose: bool = False, fast: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
 
     Parameters
@@ -604,6 +647,13 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         Initial trust radius on each gain entry.
     workers : int, optional
         Threads evaluating the scenarios (default: up to 2); BLAS is limited to one thread each.
+    verbose : bool
+        Print a line per round and per accepted step.
+    fast : bool
+        Evaluate the scenario plants and stability-only plants during the optimisation through their open-loop
+        modal form (:mod:`lib.modalloop`: ``O(n^2)`` per gain instead of a dense eigen-decomposition); the final
+        evaluation of the scenario set and the worst-case searches stay dense, so ``j_c``, ``z_c`` and ``success``
+        are always from the dense path. Default False (the reference path).
     """
     t0 = time.perf_counter()
     settings = settings or LoopSettings.from_parameters()
@@ -626,7 +676,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
 
         prob = _Problem(plants_for(scen), list(stability_models), pmap,
                         min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
-                        min_damping_all, chunk=_n_workers(workers))
+                        min_damping_all, chunk=_n_workers(workers), fast=fast)
         for round_ in range(max_rounds):
             state = _stabilise(prob, prob.evaluate(gain))
             if not state.stable():
@@ -652,7 +702,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
             scen += added
             prob.plants += plants_for(added)
-        final = prob.evaluate(gain)
+        final = prob.evaluate(gain, dense=True)
     j_c = max(final.value("rpe"), worst.value["rpe"] if worst else 0.0)
     z_c = max(final.value("effort"), worst.value["effort"] if worst else 0.0)
     stable = final.stable() and (worst is None or not worst.unstable)
@@ -683,20 +733,34 @@ class _Problem:
     omega_check: float = 0.0
     min_damping_all: float = 0.0
     chunk: int = 1
+    fast: bool = False
     iterations: int = 0
     evaluations: int = 0
     history: list[dict] = field(default_factory=list)
+    _modal: dict[int, ModalLoop] = field(default_factory=dict, repr=False)
+
+    def modal(self, plant: GeneralizedPlant) -> ModalLoop | None:
+        """The plant's open-loop modal form (built at first use) if the fast path is on, else None."""
+        if not self.fast:
+            return None
+        if id(plant) not in self._modal:
+            self._modal[id(plant)] = ModalLoop.of(plant)
+        return self._modal[id(plant)]
+
+    def fallbacks(self) -> int:
+        """Gains at which the fast path's pole checks failed and a dense eig was used."""
+        return sum(m.fallbacks for m in self._modal.values())
 
     def evaluate(self, gain: NDArray, reject: Callable[[LoopPeaks], bool] | None = None,
-                 current: _State | None = None) -> _State | None:
+                 current: _State | None = None, dense: bool = False) -> _State | None:
         """All plants at ``gain``; with ``reject``, the most active plants of ``current`` first and None as soon as
-        one of them rejects the step (see :func:`_evaluate`)."""
+        one of them rejects the step (see :func:`_evaluate`). ``dense``: by the dense path even if ``fast``."""
         order = None
         if reject is not None and current is not None:
             scale = {g: max(current.value(g), 1e-300) for g in GROUPS}
             order = np.argsort([-max(lp.norm(g) / scale[g] for g in GROUPS) for lp in current.peaks], kind="stable")
         state, n = _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check,
-                             self.min_damping_all, reject, order, self.chunk)
+                             self.min_damping_all, reject, order, self.chunk, (lambda p: None) if dense else self.modal)
         self.evaluations += n
         return state
 
@@ -714,7 +778,7 @@ class _Problem:
             return out
 
         found = [r for lp in state.peaks for r in rows(lp.eigen, 6 if all_plants else 2)]
-        state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check)
+        state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check, self.modal(p))
                        for x, p in zip(state.extra, self.checks)]
         return found + [r for x in state.extra for r in rows(x, 12)]
 
@@ -770,7 +834,7 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
         prob.iterations += 1
         z_now = state.value("effort")
         feasible = z_now < gamma
-        cons = _linearise(prob.plants, state, "effort", prob.band)
+        cons = _linearise(prob.plants, state, "effort", prob.band, prob.modal)
         stab = prob.stability_rows(state, all_plants=False, radius=radius)
         if feasible:
             # min J with the effort peaks elastic above a target halfway between Z and the margin bound (l1 penalty):
@@ -779,7 +843,7 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             current = state.value("rpe")
             bound = gamma * (1 - prob.margin)
             target = max(bound, 0.5 * (z_now + bound))
-            obj = [(f / current, g / current) for f, g in _linearise(prob.plants, state, "rpe", prob.band)]
+            obj = [(f / current, g / current) for f, g in _linearise(prob.plants, state, "rpe", prob.band, prob.modal)]
             soft = [(c / gamma, h / gamma, target / gamma) for c, h in cons if c >= prob.band * gamma]
 
             def merit(j: float, z: float) -> float:

@@ -132,7 +132,7 @@ def test_margin_rows_within_the_trust_region_pick_the_sensitive_pole():
     b_v = np.zeros((4, 4), dtype=complex)
     c_y = np.zeros((8, 4), dtype=complex)
     b_v[2:, 0], c_y[0, 2:] = 1.0, 1.0  # only the 100 rad/s mode is coupled to the gain
-    eig = synthesis._Eigen(lam, vr, lam.real.copy(), b_v, c_y)
+    eig = synthesis._Eigen.dense(lam, vr, lam.real.copy(), b_v, c_y)
     assert len(eig.rows(1)) == 1 and np.allclose(eig.rows(1)[0][0], -0.01)
     rows = eig.rows(1, radius=np.full(32, 10.0))  # reach 10 > 1 - 0.01
     assert len(rows) == 2 and np.isclose(rows[0][0], -0.01) and not np.any(rows[0][1])
