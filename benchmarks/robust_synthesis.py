@@ -11,10 +11,12 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
 * a warm start to 2.139 cm from a truss-tolerant design at 2.1 cm (synthesised with its truss moved by -2, -1, +1 and
   +2 %, which covers 2.139 cm = +1.86 %; notebook 06, section 8), against the grid design's warm start above;
 * cold syntheses at h = 2.5 cm with the default stopping tolerance and the co-design's (notebook 07 quotes both);
+* the same syntheses by the dense path and by the fast one (``fast=True``, :mod:`lib.modalloop`): cold at 2.139 cm,
+  warm from a 2.0 cm design's gain, warm from the grid's 2.1 cm design (co-design tolerance);
 * the mu analysis (both transfers) at ``--n-tau`` panel angles, per angle (notebook 08 runs 50).
 
 Prints the timings and saves them to benchmarks/results/robust_synthesis.json.
-Run: python benchmarks/robust_synthesis.py [--n-tau N] [--only tolerant]  (``--only tolerant``: that case alone, merged into
+Run: python benchmarks/robust_synthesis.py [--n-tau N] [--only tolerant|fast]  (``--only``: that case alone, merged into
 the saved JSON)
 """
 
@@ -80,17 +82,47 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
                 J_c=r.j_c, Z_c=r.z_c, success=r.success, scenarios=len(r.scenarios))
 
 
+def _fast_against_dense(settings: LoopSettings) -> dict:
+    """The same syntheses by the dense path and by the fast one (``fast=True``, :mod:`lib.modalloop`): cold at
+    2.139 cm, warm-started there from the gain of a design at 2.0 cm, and from the co-design grid's 2.1 cm design
+    (gain and scenario set, co-design tolerance)."""
+    from lib import codesign, synthesis
+
+    def row(r) -> dict:
+        return dict(time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations, J_c=r.j_c, Z_c=r.z_c,
+                    success=r.success, fallbacks=r.fallbacks)
+
+    m = design.models_at(0.02139)
+    near = design.robust_design(design.models_at(0.020), settings, fast=True)
+    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
+    rec = next(r for r in grid["records"] if abs(r["h"] - 0.021) < 1e-9)
+    scen = [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
+    cases = {"cold_2.139cm": {},
+             "warm_from_h_2.0cm": dict(gain0=near.gain),
+             "warm_from_grid_2.1cm_codesign_tol": dict(gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)}
+    out = {}
+    for name, kw in cases.items():
+        out[name] = {path: row(design.robust_design(m, settings, fast=path == "fast", **kw)) for path in ("dense", "fast")}
+        d, f = out[name]["dense"], out[name]["fast"]
+        print(f"{name}: dense {d['time_s']:.1f} s ({d['iterations']} it, J_c {d['J_c']:.5f}), fast {f['time_s']:.1f} s "
+              f"({f['iterations']} it, J_c {f['J_c']:.5f}, {f['fallbacks']} fallbacks): x{d['time_s'] / f['time_s']:.2f}")
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--n-tau", type=int, default=6)
-    parser.add_argument("--only", choices=["tolerant"], help="run this case alone and merge it into the saved JSON")
+    parser.add_argument("--only", choices=["tolerant", "fast"], help="run this case alone and merge it into the saved JSON")
     args = parser.parse_args()
     settings = LoopSettings.from_parameters()
     path = Path(__file__).parent / "results" / "robust_synthesis.json"
-    if args.only == "tolerant":
+    if args.only:
         out = json.loads(path.read_text()) if path.exists() else {}
-        out["warm_from_truss_tolerant_2.1cm"] = case = _warm_from_tolerant(settings)
-        print(f"warm_from_truss_tolerant_2.1cm: {case}")
+        if args.only == "tolerant":
+            out["warm_from_truss_tolerant_2.1cm"] = case = _warm_from_tolerant(settings)
+            print(f"warm_from_truss_tolerant_2.1cm: {case}")
+        else:
+            out["fast_against_dense"] = _fast_against_dense(settings)
         path.write_text(json.dumps(out, indent=2) + "\n")
         print(f"saved {path}")
         return
@@ -113,6 +145,7 @@ def main() -> None:
                                                                 success=co.success, scenarios=len(co.scenarios))
     out["warm_from_grid_2.1cm"] = _warm_from_grid(0.021, (0.0001, 0.00039, 0.001), settings)
     out["warm_from_truss_tolerant_2.1cm"] = _warm_from_tolerant(settings)
+    out["fast_against_dense"] = _fast_against_dense(settings)
     m25 = design.models_at(0.025)
     for name, opts in (("cold_2.5cm_default_tol", {}), ("cold_2.5cm_codesign_tol", codesign.SYNTHESIS_OPTIONS)):
         r = design.robust_design(m25, settings, **opts)

@@ -490,6 +490,8 @@ class SynthesisResult:
     iterations, time_s, evaluations : int, float, int
     history : list of dict
         Per accepted iteration: J, Z, trust radius, phase.
+    fallbacks : int
+        With ``fast``: evaluations at which the fast path's pole checks failed and the dense eig was used.
     """
 
     gain: NDArray[np.float64]
@@ -503,6 +505,7 @@ class SynthesisResult:
     time_s: float
     evaluations: int
     history: list[dict] = field(default_factory=list)
+    fallbacks: int = 0
 
 
 @dataclass
@@ -711,7 +714,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     if not success and covered:
         message = f"not a valid design: stable={stable}, Z_c={z_c:.4f} (bound {settings.gamma_u})"
     return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, prob.iterations, time.perf_counter() - t0,
-                           prob.evaluations, prob.history)
+                           prob.evaluations, prob.history, prob.fallbacks())
 
 
 @dataclass
