@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .closedloop import GeneralizedPlant
 
-__all__ = ["ModalLoop", "aberth_poles"]
+__all__ = ["ModalLoop", "aberth_poles", "sigma_max"]
 
 # A mode whose residue in P_yv is below this times |mu| is not moved by the gain (measured on the spacecraft plants:
 # the RPE-weight states at 1e-25 - 1e-27, the next mode at 1e-10, a gap the gain cannot bridge)
@@ -94,6 +94,18 @@ def _symmetrise(lam: NDArray) -> NDArray:
     return out
 
 
+def sigma_max(t: NDArray) -> NDArray:
+    """Largest singular value of each matrix of a stack ``(k, m, n)``; closed form for two columns (the largest
+    eigenvalue of the 2x2 Gram matrix), else LAPACK's SVD."""
+    if t.shape[2] != 2:
+        return np.linalg.svd(t, compute_uv=False)[:, 0]
+    scale = np.abs(t).max(axis=(1, 2))
+    u = t / np.where(scale > 0, scale, 1.0)[:, None, None]  # no overflow or underflow in the squares
+    a, c = np.sum(np.abs(u[:, :, 0]) ** 2, axis=1), np.sum(np.abs(u[:, :, 1]) ** 2, axis=1)
+    b = np.sum(np.conj(u[:, :, 0]) * u[:, :, 1], axis=1)
+    return scale * np.sqrt(0.5 * (a + c) + np.sqrt(0.25 * (a - c) ** 2 + np.abs(b) ** 2))
+
+
 def _trace_solve(a: NDArray, b: NDArray) -> NDArray:
     """``tr(a_j^-1 b_j)`` for a stack; ``inf`` where ``a_j`` is exactly singular (LAPACK finds a zero pivot)."""
     try:
@@ -148,8 +160,7 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
         r = 1.0 / (s[:, None] - mu[None, :])
         p = (r @ m_yv).reshape(-1, ny, nv)
         dp = -((r * r) @ m_yv).reshape(-1, ny, nv)
-        ret = eye - np.einsum("vy,jyw->jvw", gain, p)
-        log_det = r.sum(axis=1) - _trace_solve(ret, np.einsum("vy,jyw->jvw", gain, dp))
+        log_det = r.sum(axis=1) - _trace_solve(eye - gain @ p, gain @ dp)
         newton = 1.0 / log_det  # 0 where I - K P is exactly singular: the approximation is a root
         diff = s[:, None] - lam[None, :]
         diff[np.arange(idx.size), idx] = np.inf
@@ -167,7 +178,10 @@ def _null_vectors(mats: NDArray) -> NDArray:
     e = np.linspace(1.0, 2.0, n) * np.exp(1j * np.arange(n))  # generic: not orthogonal to a null vector in practice
     scale = np.abs(mats).max(axis=(1, 2))[:, None, None]
     eps = np.finfo(float).eps
-    x = np.linalg.solve(mats + eps * scale * np.eye(n), np.broadcast_to(e, mats.shape[:2])[..., None])[..., 0]
+    try:
+        x = np.linalg.solve(mats + eps * scale * np.eye(n), np.broadcast_to(e, mats.shape[:2])[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # an exact zero pivot: the SVD's last right singular vectors
+        return np.conj(np.linalg.svd(mats)[2][:, -1, :])
     return x / np.linalg.norm(x, axis=1, keepdims=True)
 
 
@@ -262,13 +276,13 @@ class ModalLoop:
         r[~finite] = 0.0
         p = (r @ self.m_yv[cp]).reshape(-1, ny, nv)
         dp = -((r * r) @ self.m_yv[cp]).reshape(-1, ny, nv)
-        ret = np.eye(nv) - np.einsum("vy,jyw->jvw", k, p)
+        ret = np.eye(nv) - k @ p
         # null vectors by one step of inverse iteration from a fixed generic vector (ret is singular to the
         # accuracy of the pole; a batched 4x4 solve is several times cheaper than a batched SVD)
         y = _null_vectors(ret)
         x = _null_vectors(np.conj(np.swapaxes(ret, 1, 2)))  # left null vectors (x^H (I - K P) = 0)
-        c_v = np.einsum("jyw,jw->jy", p, y)
-        w_v = -np.einsum("jv,vy,jyw,jw->j", x.conj(), k, dp, y)
+        c_v = (p @ y[:, :, None])[:, :, 0]
+        w_v = -np.sum(x.conj() * (k @ (dp @ y[:, :, None]))[:, :, 0], axis=1)
         ok = finite & (np.abs(w_v) > 0)
         left = np.where(ok[:, None], x.conj() / np.where(ok, w_v, 1.0)[:, None], 0.0)
         right = np.where(ok[:, None], c_v, 0.0).T

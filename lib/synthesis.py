@@ -44,7 +44,7 @@ from threadpoolctl import threadpool_limits
 from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from .lft import LFT
-from .modalloop import ModalLoop
+from .modalloop import ModalLoop, sigma_max
 
 __all__ = ["ALGORITHM", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
            "plant_at", "default_scenarios", "exact_norms", "sigma_curve"]
@@ -253,9 +253,9 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
                 return on_grid[group]
             t = response(w)
             if w is grid:
-                on_grid.update({g: np.linalg.svd(t[:, rows[g]], compute_uv=False)[:, 0] for g in GROUPS})
+                on_grid.update({g: sigma_max(t[:, rows[g]]) for g in GROUPS})
                 return on_grid[group]
-            return np.linalg.svd(t[:, rows[group]], compute_uv=False)[:, 0]
+            return sigma_max(t[:, rows[group]])
     if min_damping > 0 and not (lazy_cap and lam.size and np.max(lam.real + min_damping * np.abs(lam)) < -min_decay):
         min_damping = min(min_damping, 0.5 * plant.passive_damping())
     value = lam.real + min_damping * np.abs(lam)

@@ -11,7 +11,7 @@ from scipy.optimize import linear_sum_assignment
 
 from lib import spacecraft, synthesis
 from lib.closedloop import LoopSettings, frequency_response
-from lib.modalloop import ModalLoop, aberth_poles
+from lib.modalloop import ModalLoop, aberth_poles, sigma_max
 from lib.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
@@ -159,6 +159,14 @@ def test_fast_synthesis_takes_the_dense_path_decisions(model, inertia):
     assert [e["phase"] for e in fast.history] == [e["phase"] for e in dense.history]
     assert np.abs(fast.gain - dense.gain).max() <= 1e-4 * np.abs(dense.gain).max()
     assert fast.j_c == pytest.approx(dense.j_c, rel=1e-5) and fast.z_c == pytest.approx(dense.z_c, rel=1e-5)
+
+
+def test_sigma_max_closed_form_against_svd():
+    rng = np.random.default_rng(9)
+    for shape in ((50, 4, 2), (50, 2, 2), (50, 6, 3)):
+        t = rng.normal(size=shape) + 1j * rng.normal(size=shape)
+        t[0] *= 1e-150  # no overflow or underflow in the Gram matrix at the scales met
+        assert np.allclose(sigma_max(t), np.linalg.svd(t, compute_uv=False)[:, 0], rtol=1e-13, atol=0)
 
 
 def test_modal_loop_refuses_open_delta_channels(model, inertia):
