@@ -319,14 +319,18 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     from . import pso
 
     if checkpoint is not None and Path(checkpoint).exists():
-        found = pso.load_state(checkpoint).extra.get("algorithm")
+        extra = pso.load_state(checkpoint).extra
+        found = extra.get("algorithm")
         if found != synthesis.ALGORITHM:
             raise ValueError(f"checkpoint {checkpoint} was computed by the synthesis {found!r}, not the current "
                              f"{synthesis.ALGORITHM!r}: delete it (or pass another checkpoint path) to rerun")
+        if extra.get("options") != synthesis_options:
+            raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
+                             f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
 
     def evaluate(x: NDArray, state) -> list[dict]:
         t0 = time.perf_counter()
-        state.extra["algorithm"] = synthesis.ALGORITHM
+        state.extra["algorithm"], state.extra["options"] = synthesis.ALGORITHM, synthesis_options
         gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
         fails = [p for it, p in fail_particles if it == state.iteration]
         part = None if checkpoint is None else partial_path(checkpoint)

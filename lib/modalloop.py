@@ -161,7 +161,8 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
         p = (r @ m_yv).reshape(-1, ny, nv)
         dp = -((r * r) @ m_yv).reshape(-1, ny, nv)
         log_det = r.sum(axis=1) - _trace_solve(eye - gain @ p, gain @ dp)
-        newton = 1.0 / log_det  # 0 where I - K P is exactly singular: the approximation is a root
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = 1.0 / log_det  # 0 where I - K P is exactly singular: the approximation is a root
         diff = s[:, None] - lam[None, :]
         diff[np.arange(idx.size), idx] = np.inf
         step = newton / (1.0 - newton * (1.0 / diff).sum(axis=1))
@@ -271,7 +272,8 @@ class ModalLoop:
         k = self.plant._check_gain(gain)
         nv, ny = k.shape
         cp = self.coupled
-        r = 1.0 / (lam[:, None] - self.mu[None, cp])
+        with np.errstate(divide="ignore", invalid="ignore"):  # a pole on an open-loop pole: handled just below
+            r = 1.0 / (lam[:, None] - self.mu[None, cp])
         finite = np.all(np.isfinite(r), axis=1) & cp
         r[~finite] = 0.0
         p = (r @ self.m_yv[cp]).reshape(-1, ny, nv)

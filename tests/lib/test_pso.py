@@ -115,7 +115,7 @@ def test_checkpoint_keeps_non_finite_values(tmp_path):
 
 
 def test_codesign_refuses_a_checkpoint_of_another_synthesis(tmp_path, monkeypatch):
-    """A swarm checkpoint records the synthesis version; resuming it with another version would mix results."""
+    """A swarm checkpoint records the synthesis version and options; resuming it with another would mix results."""
     def fake(h, gain0=None, fail=False, **kw):
         return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
 
@@ -124,6 +124,9 @@ def test_codesign_refuses_a_checkpoint_of_another_synthesis(tmp_path, monkeypatc
     codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None, stop_after=1)
     assert pso.load_state(ck).extra["algorithm"] == synthesis.ALGORITHM
     codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)  # same version: resumes
+    with pytest.raises(ValueError, match="synthesis options"):  # e.g. a dense run resumed by the fast path
+        codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None,
+                              synthesis_options={"tol": 1e-2, "fast": True})
     monkeypatch.setattr(synthesis, "ALGORITHM", "another version")
     with pytest.raises(ValueError, match="delete it"):
         codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)
