@@ -11,16 +11,17 @@ The synthesis evaluates each scenario plant at hundreds of gains ``K``; the dens
   ``d/ds log det = sum 1/(s - mu_i) - tr((I - K P_yv)^-1 K P_yv')``; the transfers at all ``n`` poles are two
   complex matrix products ``(n x n) (n x 32)``, so one sweep costs ``O(32 n^2)``, and a start from the poles
   at a nearby gain converges in 3-4 sweeps. The result is checked by the power sums ``sum lambda`` and
-  ``sum lambda^2`` against ``tr A_cl`` and ``tr A_cl^2`` (exact, ``O(32 n)``), so that a root found twice and
-  one missed cannot pass; a failed check falls back to the dense ``eig``;
+  ``sum lambda^2`` against ``tr A_cl`` and ``tr A_cl^2`` (in the modal coordinates, ``O(32 n)``) and by the distance
+  between poles (a root found twice); a failed check falls back to the dense ``eig``;
 * **eigenvector data**: for the pole ``lambda`` with ``(I - K P_yv(lambda)) y = 0`` and
   ``x^H (I - K P_yv(lambda)) = 0``, the right eigenvector is ``v = (lambda - A)^-1 B_v y`` and the left one
   ``w^H = x^H K C_y (lambda - A)^-1``, so ``C_y v = P_yv y``, ``w^H B_v = x^H`` and ``w^H v = -x^H K P_yv' y``: the
   pole's gradient in K (``d lambda = w^H B_v dK C_y v / w^H v``) needs no n-vector;
-* **responses**: ``T = P_zp + P_zv K (I - P_yv K)^-1 P_yp`` from the open-loop response in modal form, one
-  complex matrix product ``(n_omega x n) (n x 60)`` for both groups (the gain folded into the outputs).
+* **responses**: ``T = P_zp + P_zv K (I - P_yv K)^-1 P_yp`` from the open-loop response in modal form, real matrix
+  products over the conjugate pairs ``(2 n_omega x n) (n x 60)`` for both groups (the gain folded into the outputs).
 
-The dense path stays the reference: ``tests/test_modalloop.py`` compares both on the spacecraft plants.
+The accuracy is that of the open-loop modal form (its eigenvector basis can be ill-conditioned where modes are close:
+the two solar panels). The dense path stays the reference: ``tests/lib/test_modalloop.py`` compares both.
 """
 
 from __future__ import annotations
@@ -35,8 +36,9 @@ from .closedloop import GeneralizedPlant
 
 __all__ = ["ModalLoop", "aberth_poles", "sigma_max"]
 
-# A mode whose residue in P_yv is below this times |mu| is not moved by the gain (measured on the spacecraft plants:
-# the RPE-weight states at 1e-25 - 1e-27, the next mode at 1e-10, a gap the gain cannot bridge)
+# A mode whose residue in P_yv over |mu| is below this fraction of the largest is not moved by the gain (measured on
+# the spacecraft plants, residue / |mu| in their units: the RPE-weight states at 1e-25 - 1e-27, the next mode at
+# 1e-10, the largest about 1e-2: a gap of 1e15 no gain bridges)
 _UNCOUPLED = 1e-18
 
 
@@ -84,9 +86,11 @@ def _symmetrise(lam: NDArray) -> NDArray:
     up, lo = np.flatnonzero(~real & (lam.imag > 0)), np.flatnonzero(~real & (lam.imag < 0))
     if up.size != lo.size:
         return lam
-    up, lo = up[np.lexsort((lam[up].real, lam[up].imag))], lo[np.lexsort((lam[lo].real, -lam[lo].imag))]
-    if np.any(np.abs(lam[up] - np.conj(lam[lo])) > 1e-8 * mag[up]):
+    dist = np.abs(lam[up][:, None] - np.conj(lam[lo])[None, :])
+    partner = np.argmin(dist, axis=1)  # each upper pole's nearest conjugate, which must be nobody else's
+    if (np.unique(partner).size != up.size or np.any(dist[np.arange(up.size), partner] > 1e-8 * mag[up])):
         return lam
+    lo = lo[partner]
     out = lam.copy()
     out[up] = 0.5 * (lam[up] + np.conj(lam[lo]))
     out[lo] = np.conj(out[up])
@@ -135,7 +139,8 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
     start : ndarray (n,)
         Starting approximations (distinct, none equal to an open-loop pole).
     tol : float
-        An approximation is converged once its correction is below ``tol`` relative to its modulus.
+        An approximation is converged once its correction is below ``tol`` relative to its modulus (or below 1e-11
+        and no longer decreasing: the accuracy of an ill-conditioned modal form).
     max_sweeps : int
         Largest number of sweeps.
 
@@ -149,12 +154,14 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
     nv, ny = gain.shape
     lam = np.array(start, dtype=complex)
     active = np.ones(n, dtype=bool)
+    last_change = np.full(n, np.inf)
     eye = np.eye(nv)
     sweeps = 0
     while active.any() and sweeps < max_sweeps:
         sweeps += 1
         idx = np.flatnonzero(active)
-        s = lam[idx]
+        old = lam[idx]
+        s = old.copy()
         hit = np.any(s[:, None] == mu[None, :], axis=1)  # on an open-loop pole, where P is singular: step off it
         s[hit] = s[hit] * (1.0 + 1e-10) + 1e-10j * np.abs(s[hit])
         r = 1.0 / (s[:, None] - mu[None, :])
@@ -169,7 +176,12 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
         if not np.all(np.isfinite(step)):
             return lam, sweeps, False
         lam[idx] = s - step
-        active[idx[np.abs(step) <= tol * np.maximum(np.abs(s), 1e-300)]] = False
+        # converged: the approximation moved by less than tol (measured from before any step off an open-loop pole,
+        # which a root on it undoes), or it stagnates at the accuracy the modal form allows (1e-11)
+        change, size = np.abs(lam[idx] - old), np.maximum(np.abs(old), 1e-300)
+        done = (change <= tol * size) | ((change <= 1e-11 * size) & (change >= 0.5 * last_change[idx]))
+        last_change[idx] = change
+        active[idx[done]] = False
     return lam, sweeps, not active.any()
 
 
@@ -202,7 +214,7 @@ class ModalLoop:
     m_yv: NDArray  # residues of P_yv, n x (8 * 4)
     trace_cb: NDArray  # C_y B_v in modal coordinates (8 x 4): tr(A_cl) = sum mu + tr(K C_y B_v)
     trace_cab: NDArray  # C_y A B_v (8 x 4)
-    coupled: NDArray  # modes the gain moves (the others, with residues below 1e-18 |mu|, stay where they are)
+    coupled: NDArray  # modes the gain moves (the others, with residues 1e-18 below the largest, stay where they are)
     pairs: NDArray  # indices of the first pole of each complex-conjugate pair (LAPACK gives the partner next)
     real: NDArray  # indices of the real poles
     _last: NDArray | None = field(default=None, repr=False)
@@ -226,22 +238,25 @@ class ModalLoop:
         nz = plant.N_RPE + plant.N_U
         c_y, b_v = c_t[nz:], b_t[:, plant.N_P:]
         m_yv = (c_y.T[:, :, None] * b_v[:, None, :]).reshape(mu.size, -1)
-        coupled = np.linalg.norm(m_yv, axis=1) > _UNCOUPLED * np.maximum(np.abs(mu), 1e-300)
+        ratio = np.linalg.norm(m_yv, axis=1) / np.maximum(np.abs(mu), 1e-300)  # residue over |mu| [y / v]
+        coupled = ratio > _UNCOUPLED * ratio.max()
         pairs, real = _conjugate_pairs(mu)
         return cls(plant, mu, c_t, b_t, d, m_yv, c_y @ b_v, (c_y * mu) @ b_v, coupled, pairs, real)
 
     # ------------------------------------------------------------------ poles
     def _checks_pass(self, gain: NDArray, lam: NDArray) -> bool:
-        """Power sums of the poles against the traces of ``A_cl`` and ``A_cl^2``; no two moved poles merged."""
+        """Power sums of the poles against the traces of ``A_cl`` and ``A_cl^2`` in the modal coordinates (1e-9 of
+        ``sum |lambda|`` and ``sum |lambda|^2``); no two moved poles within 1e-10 of each other."""
         kcb = gain @ self.trace_cb
         tr1 = self.mu.sum() + np.trace(kcb)
         tr2 = (self.mu ** 2).sum() + 2.0 * np.trace(gain @ self.trace_cab) + np.trace(kcb @ kcb)
         scale1, scale2 = np.abs(lam).sum(), (np.abs(lam) ** 2).sum()
         if abs(lam.sum() - tr1) > 1e-9 * scale1 or abs((lam ** 2).sum() - tr2) > 1e-9 * scale2:
             return False
-        srt = np.sort_complex(lam[self.coupled])
-        gap = np.abs(np.diff(srt)) / np.maximum(np.abs(srt[1:]), 1e-300)
-        return bool(np.all(gap > 1e-10))
+        moved = lam[self.coupled]
+        dist = np.abs(moved[:, None] - moved[None, :]) / np.maximum(np.abs(moved), 1e-300)[:, None]
+        np.fill_diagonal(dist, np.inf)
+        return bool(np.all(dist > 1e-10))  # a root found twice (the power sums miss it if the missed one is close)
 
     def poles(self, gain: ArrayLike) -> NDArray[np.complex128]:
         """Closed-loop poles with the static gain [rad/s] (started from the poles of the previous call)."""
@@ -259,22 +274,35 @@ class ModalLoop:
             lam[cp] = _symmetrise(lam[cp])
         else:
             self.fallbacks += 1
-            lam = self.plant.closed_loop_poles(k)
+            lam = self._in_mode_order(self.plant.closed_loop_poles(k))
         self._last = lam.copy()
         return lam
+
+    def _in_mode_order(self, dense: NDArray) -> NDArray:
+        """Dense poles ordered as :meth:`poles` orders them: the pole nearest each unmoved mode at that mode's place
+        (:meth:`pole_data` gives those places the open-loop vectors), the others at the moved modes' places."""
+        out = np.empty_like(self.mu, dtype=complex)
+        free = np.ones(dense.size, dtype=bool)
+        for i in np.flatnonzero(~self.coupled):
+            j = int(np.argmin(np.where(free, np.abs(dense - self.mu[i]), np.inf)))
+            out[i], free[j] = dense[j], False
+        out[self.coupled] = dense[free]
+        return out
 
     def pole_data(self, gain: ArrayLike, lam: NDArray) -> tuple[NDArray, NDArray]:
         """For each pole, ``w^H B_v`` (rows, n x 4) and ``C_y v`` (columns, 8 x n) with ``w^H v = 1``.
 
         ``lam`` must be the poles returned by :meth:`poles` (same order): a mode the gain does not move keeps its
-        open-loop vectors.
+        open-loop vectors. A pole exactly on an open-loop pole ``mu_j`` (a mode the gain sees through a zero column
+        of K, say) has ``v = v_j`` and ``w^H B_v = (w_j^H B_v) (I - K P_rest(mu_j))^-1``, ``P_rest`` without mode j.
         """
         k = self.plant._check_gain(gain)
         nv, ny = k.shape
         cp = self.coupled
-        with np.errstate(divide="ignore", invalid="ignore"):  # a pole on an open-loop pole: handled just below
+        with np.errstate(divide="ignore", invalid="ignore"):  # a pole on an open-loop pole: handled at the end
             r = 1.0 / (lam[:, None] - self.mu[None, cp])
         finite = np.all(np.isfinite(r), axis=1) & cp
+        on_mode = np.flatnonzero(~finite & cp)
         r[~finite] = 0.0
         p = (r @ self.m_yv[cp]).reshape(-1, ny, nv)
         dp = -((r * r) @ self.m_yv[cp]).reshape(-1, ny, nv)
@@ -290,6 +318,15 @@ class ModalLoop:
         right = np.where(ok[:, None], c_v, 0.0).T
         nz = self.plant.N_RPE + self.plant.N_U
         left[~cp], right[:, ~cp] = self.b_t[~cp, self.plant.N_P:], self.c_t[nz:, ~cp]
+        modes = np.flatnonzero(cp)
+        for i in on_mode:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rest = 1.0 / (lam[i] - self.mu[modes])
+            j = modes[~np.isfinite(rest)][0]
+            rest[~np.isfinite(rest)] = 0.0
+            p_rest = (rest @ self.m_yv[modes]).reshape(ny, nv)
+            left[i] = np.linalg.solve((np.eye(nv) - k @ p_rest).T, self.b_t[j, self.plant.N_P:])
+            right[:, i] = self.c_t[nz:, j]
         return left, right
 
     # ------------------------------------------------------------------ responses

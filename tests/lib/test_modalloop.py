@@ -10,7 +10,7 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 from lib import spacecraft, synthesis
-from lib.closedloop import LoopSettings, frequency_response
+from lib.closedloop import GeneralizedPlant, LoopSettings, frequency_response
 from lib.modalloop import ModalLoop, aberth_poles, sigma_max
 from lib.synthesis import Scenario, plant_at
 
@@ -159,6 +159,107 @@ def test_fast_synthesis_takes_the_dense_path_decisions(model, inertia):
     assert [e["phase"] for e in fast.history] == [e["phase"] for e in dense.history]
     assert np.abs(fast.gain - dense.gain).max() <= 1e-4 * np.abs(dense.gain).max()
     assert fast.j_c == pytest.approx(dense.j_c, rel=1e-5) and fast.z_c == pytest.approx(dense.z_c, rel=1e-5)
+
+
+def _synthetic_plant(rng: np.random.Generator, n_modes: int = 14, weak: int = 0, seen_by_first_only: int = 0,
+                     close_pair: bool = False) -> GeneralizedPlant:
+    """A small generalized plant (inputs p~ 2, v 4; outputs RPE 2, effort 4, y 8) of lightly damped modes in
+    2x2 blocks, with ``weak`` extra modes the measurements see at 1e-22 (unmoved by any gain), ``seen_by_first_only``
+    modes seen by the first measurement alone, optionally two modes 1e-8 apart; states randomly permuted."""
+    w = np.sort(rng.uniform(1.0, 300.0, n_modes + weak))
+    if close_pair:
+        w[1] = w[0] * (1 + 1e-8)
+    n = 2 * w.size
+    a = np.zeros((n, n))
+    for i, wi in enumerate(w):
+        a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[0.0, 1.0], [-wi ** 2, -2e-3 * wi]]
+    b, c = rng.normal(size=(n, 6)), rng.normal(size=(14, n))
+    c[6:, n - 2 * weak:] *= 1e-22
+    for i in range(seen_by_first_only):
+        c[7:, 2 * i:2 * i + 2] = 0.0
+    perm = rng.permutation(n)
+    return GeneralizedPlant(a[np.ix_(perm, perm)], b[perm], c[:, perm], np.zeros((14, 6)), n_delta=0, rigid_rank=0)
+
+
+def _dense_gradients(plant: GeneralizedPlant, gain: np.ndarray, lam: np.ndarray) -> list[np.ndarray]:
+    """``d lambda / dK`` (4x8) of each pole, from LAPACK's eigenvectors, the pole matched by nearest distance."""
+    eig = synthesis._eigen(plant, gain)
+    left, right = eig.vectors()
+    return [np.outer(left[j], right[:, j]) for j in (int(np.argmin(np.abs(eig.lam - x))) for x in lam)]
+
+
+def test_a_fallback_keeps_the_unmoved_modes_in_their_places(monkeypatch):
+    """When the iteration fails and the dense eig is used, the poles are put back in the modal order, so that
+    the modes the gain cannot move keep their open-loop vectors and every pole's gradient is right (with the
+    dense eig's own order, two lightly coupled poles got zero gradients and the unmoved ones gradients of 8e3)."""
+    rng = np.random.default_rng(21)
+    plant = _synthetic_plant(rng, weak=2)
+    ml = ModalLoop.of(plant)
+    assert (~ml.coupled).sum() == 4
+    monkeypatch.setattr("lib.modalloop.aberth_poles", lambda mu, m, k, start: (start, 60, False))
+    k = 0.05 * rng.normal(size=(4, 8))
+    lam = ml.poles(k)
+    assert ml.fallbacks == 1
+    left, right = ml.pole_data(k, lam)
+    for i, ref in enumerate(_dense_gradients(plant, k, lam)):
+        assert np.abs(np.outer(left[i], right[:, i]) - ref).max() <= 1e-6 * np.abs(ref).max() + 1e-12
+
+
+def test_a_pole_on_an_open_loop_pole_has_its_gradient():
+    """A mode seen by the first measurement alone, with the first column of K zero: its pole stays exactly on the
+    open-loop pole, the iteration converges there without falling back, and its gradient (nonzero in the first
+    column of K) matches central differences of LAPACK's poles."""
+    rng = np.random.default_rng(22)
+    plant = _synthetic_plant(rng, seen_by_first_only=2)
+    ml = ModalLoop.of(plant)
+    k = 0.05 * rng.normal(size=(4, 8))
+    k[:, 0] = 0.0
+    lam = ml.poles(k)
+    lam = ml.poles(k * (1 + 1e-3))  # and warm-started from a set with poles on open-loop poles
+    k = k * (1 + 1e-3)
+    assert ml.fallbacks == 0
+    left, right = ml.pole_data(k, lam)
+    on = [i for i in range(lam.size) if np.any(lam[i] == ml.mu)]
+    assert len(on) == 4
+    direction = rng.normal(size=k.shape)
+    h = 1e-7
+    up, down = plant.closed_loop_poles(k + h * direction), plant.closed_loop_poles(k - h * direction)
+    for i in on:
+        fd = (up[np.argmin(np.abs(up - lam[i]))] - down[np.argmin(np.abs(down - lam[i]))]) / (2 * h)
+        grad = np.sum(np.outer(left[i], right[:, i]) * direction)
+        assert abs(fd) > 1e-3 and abs(grad - fd) <= 1e-5 * abs(fd)
+
+
+def test_checks_reject_a_close_pole_found_twice():
+    """Two modes 1e-8 apart: the set with one of them twice and the other missed passes the power sums (the
+    difference is below their tolerance) but not the distance check."""
+    rng = np.random.default_rng(23)
+    plant = _synthetic_plant(rng, close_pair=True)
+    ml = ModalLoop.of(plant)
+    k = 1e-9 * rng.normal(size=(4, 8))
+    lam = ml.poles(k)
+    assert ml._checks_pass(k, lam)
+    upper = np.flatnonzero(lam.imag > 0)
+    a, b = sorted(upper[np.argsort(lam[upper].imag)[:2]])
+    assert abs(lam[a] - lam[b]) < 1e-7 * abs(lam[a])
+    twice = lam.copy()
+    twice[b], twice[np.argmin(np.abs(lam - np.conj(lam[b])))] = lam[a], np.conj(lam[a])
+    assert abs(twice.sum() - lam.sum()) < 1e-9 * np.abs(lam).sum()  # below the power sums' tolerance
+    assert abs((twice ** 2).sum() - (lam ** 2).sum()) < 1e-9 * (np.abs(lam) ** 2).sum()
+    assert not ml._checks_pass(k, twice)
+
+
+def test_symmetrise_pairs_each_pole_with_its_own_conjugate():
+    """Two pairs 5e-9 apart whose imaginary parts differ by less than the rounding of their conjugates (the lower
+    ones in the opposite order): each pole is averaged with its own conjugate, not its neighbour's (a sort by
+    imaginary part crossed them and moved both poles by 2.5e-9)."""
+    from lib.modalloop import _symmetrise
+
+    p1, p2 = -0.5 + 100.0j, -0.5 - 5e-7 + (100.0 + 1e-13) * 1j
+    lam = np.array([p1, np.conj(p2), p2, np.conj(p1) - 2e-13j])
+    out = _symmetrise(lam)
+    assert np.array_equal(np.sort_complex(out), np.sort_complex(np.conj(out)))
+    assert np.abs(out - lam).max() < 1e-12 * abs(p1)
 
 
 def test_sigma_max_closed_form_against_svd():
