@@ -253,10 +253,12 @@ class ModalLoop:
         scale1, scale2 = np.abs(lam).sum(), (np.abs(lam) ** 2).sum()
         if abs(lam.sum() - tr1) > 1e-9 * scale1 or abs((lam ** 2).sum() - tr2) > 1e-9 * scale2:
             return False
+        # a root found twice (the power sums miss it if the missed one is close): sorted by imaginary part, two
+        # copies are within a few places of each other (a conjugate, same real part, is far unless nearly real)
         moved = lam[self.coupled]
-        dist = np.abs(moved[:, None] - moved[None, :]) / np.maximum(np.abs(moved), 1e-300)[:, None]
-        np.fill_diagonal(dist, np.inf)
-        return bool(np.all(dist > 1e-10))  # a root found twice (the power sums miss it if the missed one is close)
+        srt = moved[np.lexsort((moved.real, moved.imag))]
+        size = np.maximum(np.abs(srt), 1e-300)
+        return all(bool(np.all(np.abs(srt[k:] - srt[:-k]) > 1e-10 * size[k:])) for k in range(1, min(4, srt.size)))
 
     def poles(self, gain: ArrayLike) -> NDArray[np.complex128]:
         """Closed-loop poles with the static gain [rad/s] (started from the poles of the previous call)."""
