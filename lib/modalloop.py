@@ -42,10 +42,9 @@ __all__ = ["ModalLoop", "aberth_poles", "sigma_max"]
 _UNCOUPLED = 1e-18
 
 
-def _transfer(mu: NDArray, m: NDArray, s: NDArray, power: int = 1) -> NDArray:
-    """``sum_i m_i / (s - mu_i)^power`` at each ``s``: shape ``(len(s), m.shape[1])``."""
-    r = 1.0 / (s[:, None] - mu[None, :])
-    return (r if power == 1 else r ** power) @ m
+def _transfer(mu: NDArray, m: NDArray, s: NDArray) -> NDArray:
+    """``sum_i m_i / (s - mu_i)`` at each complex ``s``: shape ``(len(s), m.shape[1])``."""
+    return (1.0 / (s[:, None] - mu[None, :])) @ m
 
 
 def _conjugate_pairs(mu: NDArray) -> tuple[NDArray, NDArray]:
@@ -333,8 +332,8 @@ class ModalLoop:
 
     # ------------------------------------------------------------------ responses
     def responder(self, gain: ArrayLike) -> Callable[[ArrayLike], NDArray[np.complex128]]:
-        """``omega -> T(j omega)``, the closed loop from p~ to ``[RPE; W~u]`` with the static gain, shape
-        ``(len(omega), 6, 2)`` (the gain's residues are formed once for all frequencies)."""
+        """``omega -> T(j omega)`` (omega [rad/s]), the closed loop from p~ to ``[RPE; W~u]`` with the static gain,
+        shape ``(len(omega), 6, 2)`` (the gain's residues are formed once for all frequencies)."""
         k = self.plant._check_gain(gain)
         nz, npp = self.plant.N_RPE + self.plant.N_U, self.plant.N_P
         c = np.vstack([self.c_t[:nz], k @ self.c_t[nz:]])  # outputs [z; K y]
@@ -349,6 +348,6 @@ class ModalLoop:
         return response
 
     def open_loop(self, omega: float) -> NDArray[np.complex128]:
-        """Open-loop ``P(j omega)`` from ``[p~; v]`` to ``[RPE; W~u; y]`` (14 x 6)."""
+        """Open-loop ``P(j omega)`` (omega [rad/s]) from ``[p~; v]`` to ``[RPE; W~u; y]`` (14 x 6)."""
         m = (self.c_t.T[:, :, None] * self.b_t[:, None, :]).reshape(self.mu.size, -1)
         return _transfer(self.mu, m, np.array([1j * omega]))[0].reshape(self.d.shape) + self.d

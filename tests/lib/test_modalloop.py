@@ -128,6 +128,9 @@ def test_response_against_direct_solve(model, inertia, gain):
     for rows in (slice(0, 2), slice(2, 6)):
         err, size = np.abs(t[:, rows] - ref[:, rows]).max(axis=(1, 2)), np.abs(ref[:, rows]).max(axis=(1, 2))
         assert err.max() < 2e-6 * size.max() and err[np.argmax(size)] < 1e-7 * size.max()
+    for wi in (0.5, 97.7, 400.0):  # the open-loop response (the fast path's peak gradients use it)
+        p_ref = plant.freqresp([wi])[:, :, 0]
+        assert np.abs(ml.open_loop(wi) - p_ref).max() < 1e-7 * np.abs(p_ref).max()
 
 
 def test_loop_peaks_fast_equals_dense(model, inertia, gain):
