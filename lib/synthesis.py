@@ -320,9 +320,9 @@ def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: f
 
 @dataclass
 class _Eigen:
-    """Closed-loop poles of one plant, with their margins ``value = Re lambda + zeta_req |lambda|`` and, computed
-    when first needed, ``vectors() = (w_i^H B_v rows (n x 4), C_y v_i columns (8 x n))`` for right/left
-    eigenvectors with ``w_i^H v_i = 1``."""
+    """Closed-loop poles of one plant, with their margins ``value = Re lambda + zeta_req |lambda|`` and, computed on
+    demand (only the optimiser's linearisations need them), ``vectors() = (w_i^H B_v rows (n x 4), C_y v_i columns
+    (8 x n))`` for right/left eigenvectors with ``w_i^H v_i = 1``."""
 
     lam: NDArray
     value: NDArray
