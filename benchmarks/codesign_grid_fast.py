@@ -44,13 +44,10 @@ def main() -> None:
                                                  key=key, chunk=2 * args.workers, synthesis_options=options)
     finally:
         client.close()
-    def number(value) -> float:  # non-finite values are stored as strings in the JSON files
-        return float(value)
-
     rows = []
-    for d, f in zip(dense["records"], records):
-        d = {**d, **{k: number(d[k]) for k in ("J_c", "Z_c", "f")}}
-        f = {**f, **{k: number(f[k]) for k in ("J_c", "Z_c", "f")}}
+    for d, f in zip(dense["records"], records):  # non-finite values are stored as strings in the JSON files
+        d = {**d, **{k: float(d[k]) for k in ("J_c", "Z_c", "f")}}
+        f = {**f, **{k: float(f[k]) for k in ("J_c", "Z_c", "f")}}
         rows.append(dict(h=d["h"], dense_J_c=d["J_c"], fast_J_c=f["J_c"], dense_Z_c=d["Z_c"], fast_Z_c=f["Z_c"],
                          dense_status=d["status"], fast_status=f["status"], dense_t_synthesis=d["t_synthesis"],
                          fast_t_synthesis=f["t_synthesis"], dense_f=d["f"], fast_f=f["f"]))

@@ -42,9 +42,10 @@ __all__ = ["ModalLoop", "aberth_poles", "sigma_max"]
 _UNCOUPLED = 1e-18
 
 
-def _transfer(mu: NDArray, m: NDArray, s: NDArray) -> NDArray:
-    """``sum_i m_i / (s - mu_i)`` at each complex ``s``: shape ``(len(s), m.shape[1])``."""
-    return (1.0 / (s[:, None] - mu[None, :])) @ m
+def _transfer_and_slope(r: NDArray, m_yv: NDArray, shape: tuple[int, int]) -> tuple[NDArray, NDArray]:
+    """``P(s) = sum_i m_i r_i`` and ``P'(s) = -sum_i m_i r_i^2`` at each point, from ``r = 1 / (s - mu)`` (points x
+    modes): two stacks of ``shape`` (ny x nv) matrices."""
+    return (r @ m_yv).reshape(-1, *shape), -((r * r) @ m_yv).reshape(-1, *shape)
 
 
 def _conjugate_pairs(mu: NDArray) -> tuple[NDArray, NDArray]:
@@ -61,7 +62,7 @@ def _conjugate_pairs(mu: NDArray) -> tuple[NDArray, NDArray]:
 def _imaginary_axis_transfer(mu: NDArray, m: NDArray, pairs: NDArray, real: NDArray, omega: NDArray) -> NDArray:
     """``sum_i m_i / (j omega - mu_i)`` for a real system (``m`` of a conjugate pair conjugate), by real matrix
     products: a pair contributes ``(j omega 2 Re m - 2 Re(m conj mu)) / (|mu|^2 - omega^2 - 2 j omega Re mu)``, half
-    the arithmetic of the complex product of :func:`_transfer`."""
+    the arithmetic of a complex matrix product."""
     w = omega[:, None]
     mp, mr = mu[pairs], mu[real].real
     q = 1.0 / ((np.abs(mp) ** 2)[None, :] - w ** 2 - 2j * w * mp.real[None, :])
@@ -164,8 +165,7 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
         hit = np.any(s[:, None] == mu[None, :], axis=1)  # on an open-loop pole, where P is singular: step off it
         s[hit] = s[hit] * (1.0 + 1e-10) + 1e-10j * np.abs(s[hit])
         r = 1.0 / (s[:, None] - mu[None, :])
-        p = (r @ m_yv).reshape(-1, ny, nv)
-        dp = -((r * r) @ m_yv).reshape(-1, ny, nv)
+        p, dp = _transfer_and_slope(r, m_yv, (ny, nv))
         log_det = r.sum(axis=1) - _trace_solve(eye - gain @ p, gain @ dp)
         with np.errstate(divide="ignore", invalid="ignore"):
             newton = 1.0 / log_det  # 0 where I - K P is exactly singular: the approximation is a root
@@ -305,8 +305,7 @@ class ModalLoop:
         finite = np.all(np.isfinite(r), axis=1) & cp
         on_mode = np.flatnonzero(~finite & cp)
         r[~finite] = 0.0
-        p = (r @ self.m_yv[cp]).reshape(-1, ny, nv)
-        dp = -((r * r) @ self.m_yv[cp]).reshape(-1, ny, nv)
+        p, dp = _transfer_and_slope(r, self.m_yv[cp], (ny, nv))
         ret = np.eye(nv) - k @ p
         # null vectors by one step of inverse iteration from a fixed generic vector (ret is singular to the
         # accuracy of the pole; a batched 4x4 solve is several times cheaper than a batched SVD)
@@ -350,4 +349,4 @@ class ModalLoop:
     def open_loop(self, omega: float) -> NDArray[np.complex128]:
         """Open-loop ``P(j omega)`` (omega [rad/s]) from ``[p~; v]`` to ``[RPE; W~u; y]`` (14 x 6)."""
         m = (self.c_t.T[:, :, None] * self.b_t[:, None, :]).reshape(self.mu.size, -1)
-        return _transfer(self.mu, m, np.array([1j * omega]))[0].reshape(self.d.shape) + self.d
+        return _imaginary_axis_transfer(self.mu, m, self.pairs, self.real, np.array([float(omega)]))[0].reshape(self.d.shape) + self.d

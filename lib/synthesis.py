@@ -37,7 +37,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import linalg
 from scipy.optimize import linprog, minimize
 from threadpoolctl import threadpool_limits
 
@@ -262,7 +261,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     if modal is None:
         eigen = _Eigen.dense(lam, vec, value, plant.b[:, ne:], plant.c[nr:, :])
     else:
-        eigen = _Eigen(lam, value, lambda: modal.pole_data(k, lam))
+        eigen = _Eigen.modal(modal, k, lam, value)
     abscissa = eigen.margin if lam.size else -np.inf
     wn = np.abs(lam)
     zeta = -lam.real / np.maximum(wn, 1e-300)
@@ -307,7 +306,7 @@ def peak_gradient(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: f
     k = np.asarray(gain, dtype=float)
     sl = plant.slices()
     nr, ne = plant.n_reg, plant.n_exo
-    p = plant.freqresp([omega])[:, :, 0] if modal is None or plant.n_delta else modal.open_loop(omega)
+    p = plant.freqresp([omega])[:, :, 0] if modal is None else modal.open_loop(omega)
     p_zp, p_zv = p[sl[group], sl["p"]], p[sl[group], ne:]
     p_yp, p_yv = p[nr:, sl["p"]], p[nr:, ne:]
     left = p_zv @ np.linalg.inv(np.eye(k.shape[0]) - k @ p_yv)
@@ -332,6 +331,11 @@ class _Eigen:
     def dense(cls, lam: NDArray, vr: NDArray, value: NDArray, b_v: NDArray, c_y: NDArray) -> "_Eigen":
         """From a dense eigen-decomposition (right eigenvectors ``vr``) and the loop's ``B_v``, ``C_y``."""
         return cls(lam, value, lambda: (np.linalg.solve(vr, b_v), c_y @ vr))
+
+    @classmethod
+    def modal(cls, loop: ModalLoop, gain: NDArray, lam: NDArray, value: NDArray) -> "_Eigen":
+        """From the poles ``lam`` of :meth:`lib.modalloop.ModalLoop.poles` at ``gain``."""
+        return cls(lam, value, lambda: loop.pole_data(gain, lam))
 
     @property
     def margin(self) -> float:
@@ -368,16 +372,16 @@ def _eigen(plant: GeneralizedPlant, gain: NDArray, min_damping: float = 0.0, ome
     """Eigen-decomposition of the closed loop; ``value = Re lambda + zeta_req |lambda|`` with ``zeta_req = min_damping``
     above ``omega_check`` [rad/s], else 0 (every value < 0: stable, and damped as required). With ``modal`` (the
     plant's open-loop modal form) the poles come from :meth:`lib.modalloop.ModalLoop.poles`."""
+    def margins(lam: NDArray) -> NDArray:
+        return lam.real + np.where(np.abs(lam) > omega_check, min_damping, 0.0) * np.abs(lam)
+
+    if modal is not None:
+        lam = modal.poles(gain)
+        return _Eigen.modal(modal, gain, lam, margins(lam))
     nr, ne = plant.n_reg, plant.n_exo
     b_v, c_y = plant.b[:, ne:], plant.c[nr:, :]
-    if modal is None:
-        lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
-    else:
-        lam = modal.poles(gain)
-    value = lam.real + np.where(np.abs(lam) > omega_check, min_damping, 0.0) * np.abs(lam)
-    if modal is None:
-        return _Eigen.dense(lam, vr, value, b_v, c_y)
-    return _Eigen(lam, value, lambda: modal.pole_data(gain, lam))
+    lam, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
+    return _Eigen.dense(lam, vr, margins(lam), b_v, c_y)
 
 
 # ----------------------------------------------------------------------------- worst case over the box

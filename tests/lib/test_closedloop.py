@@ -13,18 +13,8 @@ W = np.array([0.03, 0.3, 2.9, 4.1, 31.0, 75.7, 97.0, 210.0, 480.0])
 
 
 @pytest.fixture(scope="module")
-def model():
-    return spacecraft.reduced_uncertain_model(0.02139)
-
-
-@pytest.fixture(scope="module")
 def model_low():
     return spacecraft.reduced_uncertain_model(0.02139, omega_max=None)
-
-
-@pytest.fixture(scope="module")
-def inertia(model):
-    return spacecraft.inertia_at_p1(model)
 
 
 def siso(mats, w):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
 
-from lib import spacecraft, synthesis
+from lib import synthesis
 from lib.closedloop import GeneralizedPlant, LoopSettings, frequency_response
 from lib.modalloop import ModalLoop, aberth_poles, sigma_max
 from lib.synthesis import Scenario, plant_at
@@ -17,16 +17,6 @@ from lib.synthesis import Scenario, plant_at
 ST = LoopSettings.from_parameters()
 ROOT = Path(__file__).parents[2]
 SCENARIOS = [Scenario(), Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(45.0))]
-
-
-@pytest.fixture(scope="module")
-def model():
-    return spacecraft.reduced_uncertain_model(0.02139)
-
-
-@pytest.fixture(scope="module")
-def inertia(model):
-    return spacecraft.inertia_at_p1(model)
 
 
 @pytest.fixture(scope="module")

@@ -5,23 +5,13 @@ import numpy as np
 import pytest
 import slycot
 
-from lib import spacecraft, synthesis
+from lib import synthesis
 from lib.closedloop import LoopSettings
 from lib.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
 RNG = np.random.default_rng(11)
 GAIN = -1.0 + 10.0 * RNG.normal(size=(4, 8))  # stabilising at the test scenarios (checked below)
-
-
-@pytest.fixture(scope="module")
-def model():
-    return spacecraft.reduced_uncertain_model(0.02139)
-
-
-@pytest.fixture(scope="module")
-def inertia(model):
-    return spacecraft.inertia_at_p1(model)
 
 
 @pytest.fixture(scope="module")
