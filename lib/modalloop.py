@@ -59,18 +59,31 @@ def _conjugate_pairs(mu: NDArray) -> tuple[NDArray, NDArray]:
     return first, real
 
 
-def _imaginary_axis_transfer(mu: NDArray, m: NDArray, pairs: NDArray, real: NDArray, omega: NDArray) -> NDArray:
-    """``sum_i m_i / (j omega - mu_i)`` for a real system (``m`` of a conjugate pair conjugate), by real matrix
-    products: a pair contributes ``(j omega 2 Re m - 2 Re(m conj mu)) / (|mu|^2 - omega^2 - 2 j omega Re mu)``, half
-    the arithmetic of a complex matrix product."""
+def _pair_residues(mu: NDArray, m: NDArray, pairs: NDArray, real: NDArray) -> NDArray:
+    """The real right-hand factor of :func:`_imaginary_axis_transfer` for residues ``m`` (rows: modes): per pair
+    ``-2 Re(m conj mu)`` and ``2 Re m``, then the real poles' ``m``; formed once per gain, not per frequency call."""
+    mp = mu[pairs]
+    return np.vstack([-2.0 * np.real(m[pairs] * np.conj(mp)[:, None]), 2.0 * m[pairs].real, m[real].real])
+
+
+def _imaginary_axis_transfer(mu: NDArray, right: NDArray, pairs: NDArray, real: NDArray, omega: NDArray) -> NDArray:
+    """``sum_i m_i / (j omega - mu_i)`` for a real system (``m`` of a conjugate pair conjugate), by one real matrix
+    product with ``right = _pair_residues(mu, m, pairs, real)``: a pair contributes
+    ``(j omega 2 Re m - 2 Re(m conj mu)) / (|mu|^2 - omega^2 - 2 j omega Re mu)``, half the arithmetic of a complex
+    matrix product."""
+    k, npair = omega.size, pairs.size
     w = omega[:, None]
     mp, mr = mu[pairs], mu[real].real
     q = 1.0 / ((np.abs(mp) ** 2)[None, :] - w ** 2 - 2j * w * mp.real[None, :])
     den = 1.0 / (w ** 2 + mr[None, :] ** 2)
-    left = np.block([[q.real, -w * q.imag, -mr[None, :] * den], [q.imag, w * q.real, -w * den]])
-    right = np.vstack([-2.0 * np.real(m[pairs] * np.conj(mp)[:, None]), 2.0 * m[pairs].real, m[real].real])
+    left = np.empty((2 * k, right.shape[0]))  # [[Re q, -w Im q, -mu_r den], [Im q, w Re q, -w den]]
+    left[:k, :npair], left[k:, :npair] = q.real, q.imag
+    np.multiply(-w, q.imag, out=left[:k, npair:2 * npair])
+    np.multiply(w, q.real, out=left[k:, npair:2 * npair])
+    np.multiply(-mr[None, :], den, out=left[:k, 2 * npair:])
+    np.multiply(-w, den, out=left[k:, 2 * npair:])
     out = left @ right
-    return out[:omega.size] + 1j * out[omega.size:]
+    return out[:k] + 1j * out[k:]
 
 
 def _symmetrise(lam: NDArray) -> NDArray:
@@ -217,6 +230,7 @@ class ModalLoop:
     pairs: NDArray  # indices of the first pole of each complex-conjugate pair (LAPACK gives the partner next)
     real: NDArray  # indices of the real poles
     _last: NDArray | None = field(default=None, repr=False)
+    _open_right: NDArray | None = field(default=None, repr=False)  # the open loop's pair residues, formed on first use
     fallbacks: int = 0
     sweeps: int = 0
 
@@ -338,15 +352,19 @@ class ModalLoop:
         c = np.vstack([self.c_t[:nz], k @ self.c_t[nz:]])  # outputs [z; K y]
         d = np.vstack([self.d[:nz], k @ self.d[nz:]])
         m = (c.T[:, :, None] * self.b_t[:, None, :]).reshape(self.mu.size, -1)
+        right = _pair_residues(self.mu, m, self.pairs, self.real)
         eye = np.eye(k.shape[0])
 
         def response(omega: ArrayLike) -> NDArray[np.complex128]:
             w = np.atleast_1d(np.asarray(omega, dtype=float))
-            p = _imaginary_axis_transfer(self.mu, m, self.pairs, self.real, w).reshape(-1, *d.shape) + d
+            p = _imaginary_axis_transfer(self.mu, right, self.pairs, self.real, w).reshape(-1, *d.shape) + d
             return p[:, :nz, :npp] + p[:, :nz, npp:] @ np.linalg.solve(eye - p[:, nz:, npp:], p[:, nz:, :npp])
         return response
 
     def open_loop(self, omega: float) -> NDArray[np.complex128]:
         """Open-loop ``P(j omega)`` (omega [rad/s]) from ``[p~; v]`` to ``[RPE; W~u; y]`` (14 x 6)."""
-        m = (self.c_t.T[:, :, None] * self.b_t[:, None, :]).reshape(self.mu.size, -1)
-        return _imaginary_axis_transfer(self.mu, m, self.pairs, self.real, np.array([float(omega)]))[0].reshape(self.d.shape) + self.d
+        if self._open_right is None:
+            m = (self.c_t.T[:, :, None] * self.b_t[:, None, :]).reshape(self.mu.size, -1)
+            self._open_right = _pair_residues(self.mu, m, self.pairs, self.real)
+        return (_imaginary_axis_transfer(self.mu, self._open_right, self.pairs, self.real, np.array([float(omega)]))[0]
+                .reshape(self.d.shape) + self.d)

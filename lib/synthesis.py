@@ -169,20 +169,27 @@ class LoopPeaks:
         return self.peaks[group][0][1]
 
 
-def _zoom_max(fun: Callable[[NDArray], NDArray], lo: float, hi: float, n: int = 17, zooms: int = 5) -> tuple[float, float]:
-    """Maximise ``fun(log w)`` (vectorised) on ``[lo, hi]`` by nested grids: ``n`` points, then ``n`` points on the two
+def _zoom_max(fun: Callable[[NDArray], NDArray], lo: NDArray, hi: NDArray, n: int = 17,
+              zooms: int = 5) -> tuple[NDArray, NDArray]:
+    """Maximise ``fun(log w)`` on each bracket ``[lo_i, hi_i]`` by nested grids: ``n`` points, then ``n`` points on the two
     intervals around the best, ``zooms`` times (the bracket shrinks ``(n - 1) / 2`` times per zoom: 8^5 = 3e4 here,
     so a peak bracketed by its half-power points is located to 3e-5 of its bandwidth and its value to 1e-9).
-    Returns ``(value, log w)``; five vectorised calls instead of the ~50 scalar calls of a golden-section search."""
-    best_v, best_x = -np.inf, lo
+
+    ``fun`` maps a ``(brackets, n)`` array of log frequencies to the values there: all the peaks of a loop are refined
+    together, ``zooms`` vectorised calls in all instead of ``zooms`` per peak (or the ~50 scalar calls per peak of a
+    golden-section search). Each bracket's grids are exactly those it would get alone. Returns ``(values, log w)``.
+    """
+    lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+    best_v, best_x = np.full(lo.shape, -np.inf), lo.copy()
+    rows = np.arange(lo.size)
     for _ in range(zooms):
-        x = np.linspace(lo, hi, n)
+        x = np.linspace(lo, hi, n, axis=1)
         v = fun(x)
-        i = int(np.argmax(v))
-        if v[i] > best_v:
-            best_v, best_x = float(v[i]), float(x[i])
-        step = x[1] - x[0]
-        lo, hi = max(lo, best_x - step), min(hi, best_x + step)
+        i = np.argmax(v, axis=1)
+        better = v[rows, i] > best_v
+        best_v[better], best_x[better] = v[rows, i][better], x[rows, i][better]
+        step = x[:, 1] - x[:, 0]
+        lo, hi = np.maximum(lo, best_x - step), np.minimum(hi, best_x + step)
     return best_v, best_x
 
 
@@ -241,6 +248,14 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
 
         def sigma(group: str, w: NDArray) -> NDArray:
             return _sv_max(cv_all[sl[group]], lam, vb, d[sl[group]], w)
+
+        def sigmas(w: NDArray, group_of: NDArray) -> NDArray:
+            """sigma_max at each w[i] of the group ``groups[group_of[i]]``."""
+            out = np.empty(w.shape)
+            for j, group in enumerate(groups):
+                if np.any(group_of == j):
+                    out[group_of == j] = sigma(group, w[group_of == j])
+            return out
     else:
         lam = modal.poles(k)
         response = modal.responder(k)
@@ -255,6 +270,14 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
                 on_grid.update({g: sigma_max(t[:, rows[g]]) for g in GROUPS})
                 return on_grid[group]
             return sigma_max(t[:, rows[group]])
+
+        def sigmas(w: NDArray, group_of: NDArray) -> NDArray:
+            """sigma_max at each w[i] of the group ``groups[group_of[i]]``: one response for all the groups."""
+            t, out = response(w), np.empty(w.shape)
+            for j, group in enumerate(groups):
+                if np.any(group_of == j):
+                    out[group_of == j] = sigma_max(t[group_of == j][:, rows[group]])
+            return out
     if min_damping > 0 and not (lazy_cap and lam.size and np.max(lam.real + min_damping * np.abs(lam)) < -min_decay):
         min_damping = min(min_damping, 0.5 * plant.passive_damping())
     value = lam.real + min_damping * np.abs(lam)
@@ -271,15 +294,26 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     grid = np.unique(np.r_[np.geomspace(lo, hi, n_log), wd[sel], (wd * (1 - zeta))[sel], (wd * (1 + zeta))[sel]])
     out: dict[str, list[tuple[float, float]]] = {}
     checked = 0.0
-    for group in groups:
+    found, brackets = {}, []  # per group: grid values and candidate indices; the peaks to refine: (group, index)
+    for j, group in enumerate(groups):
         s = sigma(group, grid)
         interior = np.flatnonzero((s[1:-1] >= s[:-2]) & (s[1:-1] >= s[2:])) + 1
         cand = np.r_[interior, [0, grid.size - 1]]
         cand = cand[np.argsort(s[cand])[::-1]][:n_peaks]
+        found[group] = (s, cand)
+        brackets += [(j, i) for i in cand if 0 < i < grid.size - 1 and s[i] >= 0.5 * s[cand[0]]]  # the peaks that can matter
+    refined = {}
+    if brackets:
+        group_of, at = np.array([b[0] for b in brackets]), np.array([b[1] for b in brackets])
+        values, logw = _zoom_max(lambda x: sigmas(np.exp(x).ravel(), np.repeat(group_of, x.shape[1])).reshape(x.shape),
+                                 np.log(grid[at - 1]), np.log(grid[at + 1]))
+        refined = {b: (float(v), float(x)) for b, v, x in zip(brackets, values, logw)}
+    for j, group in enumerate(groups):
+        s, cand = found[group]
         peaks = []
         for i in cand:
-            if 0 < i < grid.size - 1 and s[i] >= 0.5 * s[cand[0]]:  # refine the peaks that can matter
-                val, lw = _zoom_max(lambda x: sigma(group, np.exp(x)), np.log(grid[i - 1]), np.log(grid[i + 1]))
+            if (j, i) in refined:
+                val, lw = refined[(j, i)]
                 peaks.append((max(val, float(s[i])), float(np.exp(lw)) if val >= s[i] else float(grid[i])))
             else:
                 peaks.append((float(s[i]), float(grid[i])))
