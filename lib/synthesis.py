@@ -115,8 +115,25 @@ def default_scenarios(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0, 180
     return out
 
 
+def _check_option(name: str, value: object, low: float, high: float = np.inf, integer: bool = False,
+                  open_low: bool = False, open_high: bool = False) -> None:
+    """Raise a ValueError (TypeError for a non-number) naming an option of the synthesis or the search and its range."""
+    kind = "an integer" if integer else "a number"
+    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
+    if isinstance(value, bool) or not ok_type:
+        raise TypeError(f"{name} must be {kind}, got {type(value).__name__}")
+    v = float(value)
+    inside = (np.isfinite(v) or high == np.inf and v == np.inf) and (v > low if open_low else v >= low) and (
+        v < high if open_high else v <= high)
+    if not inside:
+        lo_b, hi_b = "(" if open_low else "[", ")" if open_high or high == np.inf else "]"
+        raise ValueError(f"{name} must be {kind} in {lo_b}{low:g}, {high:g}{hi_b}, got {value!r}")
+
+
 def _n_workers(n: int | None) -> int:
     """Worker threads: ``n``, or up to 2 (the cores of the reference machine)."""
+    if n is not None:
+        _check_option("workers", n, 1, integer=True)
     return max(1, min(os.cpu_count() or 1, 2) if n is None else int(n))
 
 
@@ -440,7 +457,14 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     group are improved by a bounded Nelder-Mead search over (d_mass, d_iyy, d_omega1, theta), ``max_evals``
     evaluations each.
     """
-    thetas = np.deg2rad(np.linspace(0.0, 180.0, 10) if thetas_deg is None else np.asarray(thetas_deg, dtype=float))
+    _check_option("refine", refine, 0, integer=True)
+    _check_option("max_evals", max_evals, 1, integer=True)
+    _check_option("min_decay", min_decay, 0.0)
+    _check_option("min_damping", min_damping, 0.0, 1.0, open_high=True)
+    thetas = np.linspace(0.0, 180.0, 10) if thetas_deg is None else np.atleast_1d(np.asarray(thetas_deg, dtype=float))
+    if thetas.ndim != 1 or not thetas.size or not np.all(np.isfinite(thetas)) or np.any(np.abs(thetas) > 180.0):
+        raise ValueError(f"thetas_deg must be a non-empty list of panel angles in [-180, 180] deg, got {thetas_deg!r}")
+    thetas = np.deg2rad(thetas)
     corners = [np.array(c) for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)] + [np.zeros(3)]
     evals = 0
     unstable: list[Scenario] = []
@@ -697,6 +721,18 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         are always from the dense path. Default False (the reference path).
     """
     t0 = time.perf_counter()
+    for name, value, low, high in (("min_damping", min_damping, 0.0, 1.0), ("min_damping_all", min_damping_all, 0.0, 1.0),
+                                   ("margin", margin, 0.0, 1.0)):
+        _check_option(name, value, low, high, open_high=True)
+    for name, value in (("omega_check", omega_check), ("min_decay", min_decay), ("cover_tol", cover_tol)):
+        _check_option(name, value, 0.0)
+    _check_option("search_damping", search_damping, 0.0, 1.0)
+    _check_option("band", band, 0.0, 1.0, open_low=True)
+    _check_option("tol", tol, 0.0, open_low=True)
+    _check_option("radius0", radius0, 0.0, open_low=True)
+    _check_option("max_iter", max_iter, 1, integer=True)
+    _check_option("max_rounds", max_rounds, 1, integer=True)
+    _n_workers(workers)
     settings = settings or LoopSettings.from_parameters()
     gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):

@@ -290,3 +290,21 @@ def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     assert rows[2]["spillover_stable"] is False and rows[0]["evaluations"] == 7
     rows, _ = design.truss_shift_check(0.015, gains, [0.04], ST)  # without the spillover check
     assert "spillover_stable" not in rows[0] and [r["valid"] for r in rows] == [True, False, True, False]
+
+
+@pytest.mark.parametrize("option, value, error", [
+    ("max_iter", 0, ValueError), ("max_rounds", 2.5, TypeError), ("tol", 0.0, ValueError), ("band", 1.5, ValueError),
+    ("margin", 1.0, ValueError), ("min_damping_all", -1e-4, ValueError), ("search_damping", 2.0, ValueError),
+    ("radius0", float("nan"), ValueError), ("workers", 0, ValueError), ("min_decay", "1e-7", TypeError)])
+def test_synthesis_options_are_checked_before_any_work(option, value, error):
+    """A bad option is named with its allowed range before any model is touched (the model here is not even one)."""
+    with pytest.raises(error, match=option):
+        synthesis.synthesize(None, np.eye(3), **{option: value})
+
+
+@pytest.mark.parametrize("option, value, error", [
+    ("refine", -1, ValueError), ("max_evals", 0, ValueError), ("thetas_deg", [0.0, 270.0], ValueError),
+    ("thetas_deg", [], ValueError), ("min_damping", 1.0, ValueError), ("refine", True, TypeError)])
+def test_search_options_are_checked(option, value, error):
+    with pytest.raises(error, match=option):
+        synthesis.worst_case(None, -np.ones((4, 8)), np.eye(3), LoopSettings.from_parameters(), **{option: value})
