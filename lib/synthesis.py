@@ -210,6 +210,17 @@ def _zoom_max(fun: Callable[[NDArray], NDArray], lo: NDArray, hi: NDArray, n: in
     return best_v, best_x
 
 
+def _per_group(groups: Sequence[str], group_of: NDArray, values: Callable[[str, NDArray], NDArray]) -> NDArray:
+    """Values at points each of one group (``groups[group_of[i]]``): ``values(group, mask)`` gives those of a group's
+    points (``mask`` selects them)."""
+    out = np.empty(group_of.shape)
+    for j, group in enumerate(groups):
+        at = group_of == j
+        if at.any():
+            out[at] = values(group, at)
+    return out
+
+
 def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> NDArray:
     """Largest singular value of ``CV diag(1/(jw - lam)) VB + D`` at each w."""
     h = (cv[None, :, :] * (1.0 / (1j * w[:, None] - lam[None, :]))[:, None, :]) @ vb + d
@@ -267,12 +278,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
             return _sv_max(cv_all[sl[group]], lam, vb, d[sl[group]], w)
 
         def sigmas(w: NDArray, group_of: NDArray) -> NDArray:
-            """sigma_max at each w[i] of the group ``groups[group_of[i]]``."""
-            out = np.empty(w.shape)
-            for j, group in enumerate(groups):
-                if np.any(group_of == j):
-                    out[group_of == j] = sigma(group, w[group_of == j])
-            return out
+            return _per_group(groups, group_of, lambda group, at: sigma(group, w[at]))
     else:
         lam = modal.poles(k)
         response = modal.responder(k)
@@ -289,12 +295,8 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
             return sigma_max(t[:, rows[group]])
 
         def sigmas(w: NDArray, group_of: NDArray) -> NDArray:
-            """sigma_max at each w[i] of the group ``groups[group_of[i]]``: one response for all the groups."""
-            t, out = response(w), np.empty(w.shape)
-            for j, group in enumerate(groups):
-                if np.any(group_of == j):
-                    out[group_of == j] = sigma_max(t[group_of == j][:, rows[group]])
-            return out
+            t = response(w)  # one response for all the groups
+            return _per_group(groups, group_of, lambda group, at: sigma_max(t[at][:, rows[group]]))
     if min_damping > 0 and not (lazy_cap and lam.size and np.max(lam.real + min_damping * np.abs(lam)) < -min_decay):
         min_damping = min(min_damping, 0.5 * plant.passive_damping())
     value = lam.real + min_damping * np.abs(lam)
