@@ -160,7 +160,9 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
         mirrored: for a real system the Aberth step of ``conj z`` is the conjugate of that of ``z``, so this is the same
         iteration at half the cost. A real approximation stays real and a pair stays a pair, so a pair of roots that
         has become two real ones (or the reverse) cannot converge that way: after 12 sweeps the unconverged
-        approximations and their partners are rotated by 1e-7 rad and iterated independently.
+        approximations and their partners are rotated by 1e-7 rad and iterated independently. (Mirroring takes the
+        residues of a pair as exact conjugates; computed by a complex solve they are so to rounding: the two
+        iterations differ by about 1e-11 at convergence, the accuracy of the roots.)
     tol : float
         An approximation is converged once its correction is below ``tol`` relative to its modulus (or below 1e-11
         and no longer decreasing: the accuracy of an ill-conditioned modal form).
@@ -194,13 +196,14 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
             idx = np.flatnonzero(active)
             idx = np.union1d(idx, partner[idx])
             lam[idx] = lam[idx] * (1.0 + 1e-7j)
-            active[idx] = True
+            active[idx], last_change[idx] = True, np.inf
             mirror = False
         sweeps += 1
         idx = np.flatnonzero(active)
         old = lam[idx]
         s = old.copy()
-        hit = np.any(s[:, None] == mu[None, :], axis=1)  # on an open-loop pole, where P is singular: step off it
+        # on an open-loop pole (or within rounding of one), where P is singular: step off it
+        hit = np.any(np.abs(s[:, None] - mu[None, :]) <= 1e-12 * np.abs(mu[None, :]), axis=1)
         s[hit] = s[hit] * (1.0 + 1e-10) + 1e-10j * np.abs(s[hit])
         r = 1.0 / (s[:, None] - mu[None, :])
         p, dp = _transfer_and_slope(r, m_yv, (ny, nv))

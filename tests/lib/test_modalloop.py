@@ -51,6 +51,25 @@ def test_aberth_finds_every_eigenvalue_of_a_rank_4_update():
     assert _matched_error(lam, np.linalg.eigvals(a + b @ k @ c)) < 1e-9
 
 
+@pytest.mark.parametrize("offset", [0.0, 1e-15, 1e-12])
+def test_aberth_from_starts_within_rounding_of_the_open_loop_poles(offset):
+    """Starts on, or a few rounding units from, the open-loop poles (where P(s) is singular or nearly so): the
+    iteration steps off them and still finds LAPACK's eigenvalues (a start 1e-15 away once gave a meaningless
+    correction reported as converged, with an error of 0.49: found by an independent review)."""
+    rng = np.random.default_rng(3)
+    w = np.sort(rng.uniform(1.0, 500.0, 30))
+    a = np.zeros((60, 60))
+    for i, wi in enumerate(w):
+        a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[0.0, 1.0], [-wi ** 2, -2e-3 * wi]]
+    b, c = rng.normal(size=(60, 4)), rng.normal(size=(8, 60))
+    k = 0.05 * rng.normal(size=(4, 8))
+    mu, v = np.linalg.eig(a)
+    m = ((c @ v).T[:, :, None] * np.linalg.solve(v, b)[:, None, :]).reshape(60, -1)
+    lam, _, converged = aberth_poles(mu, m, k, mu * (1 + offset * 1j))
+    assert converged
+    assert _matched_error(lam, np.linalg.eigvals(a + b @ k @ c)) < 1e-9
+
+
 @pytest.mark.parametrize("closed, start", [
     ((-1.0, -4.0), (-2.5 + 0.5j, -2.5 - 0.5j)),  # a pair that must split into two real roots
     ((-1.0 + 2.0j, -1.0 - 2.0j), (-0.5 + 0.0j, -1.5 + 0.0j))])  # two real approximations that must become a pair
