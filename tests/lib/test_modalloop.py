@@ -32,30 +32,9 @@ def _matched_error(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(a[r] - b[c]) / np.maximum(np.abs(b[c]), 1e-300)))
 
 
-def test_aberth_finds_every_eigenvalue_of_a_rank_4_update():
-    """A real system of 30 lightly damped modes in modal form (2x2 blocks), closed by a 4x8 gain: the iteration on
-    ``det(I - K P(s))`` finds the eigenvalues of ``A + B K C`` computed by LAPACK, from the open-loop poles."""
-    rng = np.random.default_rng(3)
-    w = np.sort(rng.uniform(1.0, 500.0, 30))
-    a = np.zeros((60, 60))
-    for i, wi in enumerate(w):
-        a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[0.0, 1.0], [-wi ** 2, -2e-3 * wi]]
-    b, c = rng.normal(size=(60, 4)), rng.normal(size=(8, 60))
-    k = 0.05 * rng.normal(size=(4, 8))
-    mu, v = np.linalg.eig(a)
-    bt, ct = np.linalg.solve(v, b), c @ v
-    m = (ct.T[:, :, None] * bt[:, None, :]).reshape(60, -1)
-    start = mu * (1 + 1e-3 * np.exp(2j * np.pi * np.arange(60) / 60))
-    lam, sweeps, converged = aberth_poles(mu, m, k, start)
-    assert converged and sweeps < 60
-    assert _matched_error(lam, np.linalg.eigvals(a + b @ k @ c)) < 1e-9
-
-
-@pytest.mark.parametrize("offset", [0.0, 1e-15, 1e-12])
-def test_aberth_from_starts_within_rounding_of_the_open_loop_poles(offset):
-    """Starts on, or a few rounding units from, the open-loop poles (where P(s) is singular or nearly so): the
-    iteration steps off them and still finds LAPACK's eigenvalues (a start 1e-15 away once gave a meaningless
-    correction reported as converged, with an error of 0.49: found by an independent review)."""
+def _rank_4_system():
+    """A real system of 30 lightly damped modes in modal form (2x2 blocks) with a 4x8 gain: ``A + B K C``, its open-loop
+    poles ``mu`` and the residues ``m`` of ``P = C (s - A)^-1 B`` (rows: modes, as :func:`aberth_poles` takes them)."""
     rng = np.random.default_rng(3)
     w = np.sort(rng.uniform(1.0, 500.0, 30))
     a = np.zeros((60, 60))
@@ -65,9 +44,28 @@ def test_aberth_from_starts_within_rounding_of_the_open_loop_poles(offset):
     k = 0.05 * rng.normal(size=(4, 8))
     mu, v = np.linalg.eig(a)
     m = ((c @ v).T[:, :, None] * np.linalg.solve(v, b)[:, None, :]).reshape(60, -1)
+    return a + b @ k @ c, mu, m, k
+
+
+def test_aberth_finds_every_eigenvalue_of_a_rank_4_update():
+    """The iteration on ``det(I - K P(s))`` finds the eigenvalues of ``A + B K C`` computed by LAPACK, from the
+    open-loop poles."""
+    a_cl, mu, m, k = _rank_4_system()
+    start = mu * (1 + 1e-3 * np.exp(2j * np.pi * np.arange(60) / 60))
+    lam, sweeps, converged = aberth_poles(mu, m, k, start)
+    assert converged and sweeps < 60
+    assert _matched_error(lam, np.linalg.eigvals(a_cl)) < 1e-9
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e-15, 1e-12])
+def test_aberth_from_starts_within_rounding_of_the_open_loop_poles(offset):
+    """Starts on, or a few rounding units from, the open-loop poles (where P(s) is singular or nearly so): the
+    iteration steps off them and still finds LAPACK's eigenvalues (a start 1e-15 away once gave a meaningless
+    correction reported as converged, with an error of 0.49: found by an independent review)."""
+    a_cl, mu, m, k = _rank_4_system()
     lam, _, converged = aberth_poles(mu, m, k, mu * (1 + offset * 1j))
     assert converged
-    assert _matched_error(lam, np.linalg.eigvals(a + b @ k @ c)) < 1e-9
+    assert _matched_error(lam, np.linalg.eigvals(a_cl)) < 1e-9
 
 
 @pytest.mark.parametrize("closed, start", [
