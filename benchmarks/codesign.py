@@ -5,7 +5,13 @@ best particle; the particles of an iteration run on a local Dask cluster (one wo
 each). Reports the wall time, the time per objective evaluation split into model assembly, reduction and synthesis,
 and the result; saves benchmarks/results/codesign.json. The paper: 11 h 16 min on 24 cores.
 
-Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH]
+With ``--fast`` every synthesis evaluates the optimiser's plants by the fast path (``fast=True``, :mod:`lib.modalloop`;
+J_c, Z_c and success still from the dense final evaluation and searches); its checkpoint and JSON are separate
+(``runs/benchmark_codesign_fast_checkpoint.json``, ``results/codesign_fast.json``). An interrupted run resumes from its
+checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in.
+
+Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--fast]
+                                   [--stop-after K]
      python benchmarks/codesign.py --report data/results/07_pso_checkpoint.json   # the timing of a run already made
                                                                                   # (e.g. notebook 07's main job)
 """
@@ -32,9 +38,15 @@ def main() -> None:
     parser.add_argument("--iterations", type=int, default=20)
     parser.add_argument("--workers", type=int, default=0)
     parser.add_argument("--seed", type=int, default=2026)
-    parser.add_argument("--checkpoint", default="runs/benchmark_codesign_checkpoint.json")
+    parser.add_argument("--checkpoint", default="", help="default runs/benchmark_codesign[_fast]_checkpoint.json")
+    parser.add_argument("--fast", action="store_true", help="the fast evaluation path in every synthesis (lib.modalloop)")
+    parser.add_argument("--stop-after", type=int, default=None,
+                        help="stop after this many iterations in all (resume later with the same checkpoint)")
     parser.add_argument("--report", default="", help="report the timing stored in this checkpoint instead of running")
     args = parser.parse_args()
+    suffix = "_fast" if args.fast else ""
+    checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
+    options = {**codesign.SYNTHESIS_OPTIONS, "fast": True} if args.fast else None
     if args.report:
         from lib import pso
 
@@ -44,9 +56,10 @@ def main() -> None:
     else:
         client = codesign.local_client(args.workers or None)
         n_workers = len(client.scheduler_info()["workers"])
-        state = codesign.run_codesign(args.particles, args.iterations, (0.015, 0.03), args.seed, client, args.checkpoint)
+        state = codesign.run_codesign(args.particles, args.iterations, (0.015, 0.03), args.seed, client, checkpoint,
+                                      synthesis_options=options, stop_after=args.stop_after)
         client.close()
-        particles, iterations = args.particles, args.iterations
+        particles, iterations = args.particles, state.iteration
     wall = float(sum(state.extra.get("iteration_wall_s", [np.nan])))  # over all iterations, resumed runs included
     hist = state.history
     own = [r for r in hist if "shared_with" not in r]  # particles at the same h share one evaluation
@@ -62,11 +75,11 @@ def main() -> None:
         "failed_or_penalised": sum(not str(r["status"]).startswith("ok") for r in own),
         "best": {k: best[k] for k in ("h", "f", "J_c", "Z_c", "mass")},
         "source": args.report or "this run",
-        "synthesis_algorithm": state.extra.get("algorithm"),
+        "synthesis_algorithm": state.extra.get("algorithm"), "synthesis_options": state.extra.get("options"),
         "complete": iterations >= args.iterations,
     }
     print(json.dumps(out, indent=2))
-    path = Path(__file__).parent / "results" / "codesign.json"
+    path = Path(__file__).parent / "results" / f"codesign{suffix}.json"
     path.write_text(json.dumps(out, indent=2) + "\n")
     print(f"saved {path}")
 

@@ -9,7 +9,8 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
 * warm starts from the co-design grid's design at 2.1 cm (gain and scenario set) to 2.11, 2.139 and 2.2 cm: how the
   gain fares at the new h before any iteration, and the synthesis time;
 * a warm start to 2.139 cm from a truss-tolerant design at 2.1 cm (synthesised with its truss moved by -2, -1, +1 and
-  +2 %, which covers 2.139 cm = +1.86 %; notebook 06, section 8), against the grid design's warm start above;
+  +2 %, which covers 2.139 cm = +1.86 %; notebook 06, section 8), against the grid design's warm start above, by the
+  dense path and by the fast one;
 * cold syntheses at h = 2.5 cm with the default stopping tolerance and the co-design's (notebook 07 quotes both);
 * the same syntheses by the dense path and by the fast one (``fast=True``, :mod:`lib.modalloop`): cold at 2.139 cm,
   warm from a 2.0 cm design's gain, warm from the grid's 2.1 cm design (co-design tolerance);
@@ -75,11 +76,16 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
     m = design.models_at(h)
     peaks = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), src.gain) for sc in synthesis.default_scenarios()]
     r = design.robust_design(m, settings, gain0=src.gain, **codesign.SYNTHESIS_OPTIONS)
+    fast = design.robust_design(m, settings, gain0=src.gain, fast=True, **codesign.SYNTHESIS_OPTIONS)
+    print(f"warm start from the truss-tolerant design: dense {r.time_s:.1f} s ({r.iterations} it, J_c {r.j_c:.5f}), "
+          f"fast {fast.time_s:.1f} s ({fast.iterations} it, J_c {fast.j_c:.5f}, {fast.fallbacks} fallbacks)")
     return dict(source=dict(h=h0, shifts=list(shifts), time_s=src.time_s, iterations=src.iterations, J_c=src.j_c, Z_c=src.z_c,
                             success=src.success),
                 start_max_real=max(float(p.eigen.lam.real.max()) for p in peaks), start_J=max(p.norm("rpe") for p in peaks),
                 start_Z=max(p.norm("effort") for p in peaks), time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations,
-                J_c=r.j_c, Z_c=r.z_c, success=r.success, scenarios=len(r.scenarios))
+                J_c=r.j_c, Z_c=r.z_c, success=r.success, scenarios=len(r.scenarios),
+                fast=dict(time_s=fast.time_s, iterations=fast.iterations, evaluations=fast.evaluations, J_c=fast.j_c, Z_c=fast.z_c,
+                          success=fast.success, fallbacks=fast.fallbacks))
 
 
 def _fast_against_dense(settings: LoopSettings) -> dict:
