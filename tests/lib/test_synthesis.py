@@ -94,6 +94,27 @@ def test_worst_case_not_beaten_by_sampling(model, inertia):
         assert np.isclose(again.norm(group), wc.value[group], rtol=1e-9)
 
 
+
+def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypatch):
+    """The Nelder-Mead refinement of a group asks for that group's peaks only, and finds exactly what it finds with both
+    groups computed (each group's peaks are computed apart): same values, frequencies, scenarios and evaluations."""
+    kw = dict(thetas_deg=[0.0, 90.0, 180.0], refine=1, max_evals=12, workers=1)
+    own = synthesis.worst_case(model, GAIN, inertia, ST, **kw)
+    asked = []
+    loop_peaks = synthesis.loop_peaks
+
+    def both_groups(*args, **kwargs):
+        asked.append(tuple(kwargs.get("groups", synthesis.GROUPS)))
+        return loop_peaks(*args, **{**kwargs, "groups": synthesis.GROUPS})
+
+    monkeypatch.setattr(synthesis, "loop_peaks", both_groups)
+    ref = synthesis.worst_case(model, GAIN, inertia, ST, **kw)
+    assert ("rpe",) in asked and ("effort",) in asked
+    assert own.evaluations == ref.evaluations
+    for group in synthesis.GROUPS:
+        assert own.value[group] == ref.value[group] and own.omega[group] == ref.omega[group]
+        assert own.scenario[group] == ref.scenario[group]
+
 def test_scenarios():
     sc = Scenario(1.0, -1.0, 0.5, np.pi / 2)
     assert np.isclose(sc.normalized()["tau"], np.tan(np.pi / 8))
