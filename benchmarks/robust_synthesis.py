@@ -65,6 +65,12 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
     return out
 
 
+def _row(r) -> dict:
+    """The figures of a synthesis result that the benchmark records."""
+    return dict(time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations, J_c=r.j_c, Z_c=r.z_c,
+                success=r.success, fallbacks=r.fallbacks)
+
+
 def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.02139,
                         shifts: tuple[float, ...] = (-0.02, -0.01, 0.01, 0.02)) -> dict:
     """Warm start at ``h`` [m] from a design at ``h0`` synthesised to serve its truss moved by ``shifts`` (relative): how
@@ -84,8 +90,7 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
                 start_max_real=max(float(p.eigen.lam.real.max()) for p in peaks), start_J=max(p.norm("rpe") for p in peaks),
                 start_Z=max(p.norm("effort") for p in peaks), time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations,
                 J_c=r.j_c, Z_c=r.z_c, success=r.success, scenarios=len(r.scenarios),
-                fast=dict(time_s=fast.time_s, iterations=fast.iterations, evaluations=fast.evaluations, J_c=fast.j_c, Z_c=fast.z_c,
-                          success=fast.success, fallbacks=fast.fallbacks))
+                fast=_row(fast))
 
 
 def _fast_against_dense(settings: LoopSettings) -> dict:
@@ -93,10 +98,6 @@ def _fast_against_dense(settings: LoopSettings) -> dict:
     2.139 cm, warm-started there from the gain of a design at 2.0 cm, and from the co-design grid's 2.1 cm design
     (gain and scenario set, co-design tolerance)."""
     from lib import codesign, synthesis
-
-    def row(r) -> dict:
-        return dict(time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations, J_c=r.j_c, Z_c=r.z_c,
-                    success=r.success, fallbacks=r.fallbacks)
 
     m = design.models_at(0.02139)
     near = design.robust_design(design.models_at(0.020), settings, fast=True)
@@ -108,7 +109,7 @@ def _fast_against_dense(settings: LoopSettings) -> dict:
              "warm_from_grid_2.1cm_codesign_tol": dict(gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)}
     out = {}
     for name, kw in cases.items():
-        out[name] = {path: row(design.robust_design(m, settings, fast=path == "fast", **kw)) for path in ("dense", "fast")}
+        out[name] = {path: _row(design.robust_design(m, settings, fast=path == "fast", **kw)) for path in ("dense", "fast")}
         d, f = out[name]["dense"], out[name]["fast"]
         print(f"{name}: dense {d['time_s']:.1f} s ({d['iterations']} it, J_c {d['J_c']:.5f}), fast {f['time_s']:.1f} s "
               f"({f['iterations']} it, J_c {f['J_c']:.5f}, {f['fallbacks']} fallbacks): x{d['time_s'] / f['time_s']:.2f}")

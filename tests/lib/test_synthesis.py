@@ -94,7 +94,6 @@ def test_worst_case_not_beaten_by_sampling(model, inertia):
         assert np.isclose(again.norm(group), wc.value[group], rtol=1e-9)
 
 
-
 def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypatch):
     """The Nelder-Mead refinement of a group asks for that group's peaks only, and finds exactly what it finds with both
     groups computed (each group's peaks are computed apart): same values, frequencies, scenarios and evaluations."""
@@ -114,6 +113,7 @@ def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypa
     for group in synthesis.GROUPS:
         assert own.value[group] == ref.value[group] and own.omega[group] == ref.omega[group]
         assert own.scenario[group] == ref.scenario[group]
+
 
 def test_scenarios():
     sc = Scenario(1.0, -1.0, 0.5, np.pi / 2)
