@@ -10,7 +10,8 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
   gain fares at the new h before any iteration, and the synthesis time;
 * a warm start to 2.139 cm from a truss-tolerant design at 2.1 cm (synthesised with its truss moved by -2, -1, +1 and
   +2 %, which covers 2.139 cm = +1.86 %; notebook 06, section 8), against the grid design's warm start above, by the
-  dense path and by the fast one;
+  dense path and by the fast one, from its gain alone and from its gain and final scenario set (as a co-design does),
+  with the source design synthesised by each path (two local optima);
 * cold syntheses at h = 2.5 cm with the default stopping tolerance and the co-design's (notebook 07 quotes both);
 * the same syntheses by the dense path and by the fast one (``fast=True``, :mod:`lib.modalloop`): cold at 2.139 cm,
   warm from a 2.0 cm design's gain, warm from the grid's 2.1 cm design (co-design tolerance);
@@ -68,29 +69,36 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
 def _row(r) -> dict:
     """The figures of a synthesis result that the benchmark records."""
     return dict(time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations, J_c=r.j_c, Z_c=r.z_c,
-                success=r.success, fallbacks=r.fallbacks)
+                success=r.success, fallbacks=r.fallbacks, searches=r.searches)
 
 
 def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.02139,
-                        shifts: tuple[float, ...] = (-0.02, -0.01, 0.01, 0.02)) -> dict:
-    """Warm start at ``h`` [m] from a design at ``h0`` synthesised to serve its truss moved by ``shifts`` (relative): how
-    the gain fares at the new h before any iteration (default scenario set), then the synthesis (co-design tolerance)."""
+                        shifts: tuple[float, ...] = (-0.02, -0.01, 0.01, 0.02), fast_source: bool = False) -> dict:
+    """Warm start at ``h`` [m] from a design at ``h0`` synthesised to serve its truss moved by ``shifts`` (relative), by
+    the dense path or (``fast_source``) the fast one: how the gain fares at the new h before any iteration (default
+    scenario set), then the synthesis (co-design tolerance)."""
     from lib import codesign, synthesis
 
     m0 = design.models_at(h0)
-    src = design.robust_design(m0, settings, variants=design.truss_variants(m0, shifts))
+    src = design.robust_design(m0, settings, variants=design.truss_variants(m0, shifts), fast=fast_source)
     m = design.models_at(h)
     peaks = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), src.gain) for sc in synthesis.default_scenarios()]
     r = design.robust_design(m, settings, gain0=src.gain, **codesign.SYNTHESIS_OPTIONS)
     fast = design.robust_design(m, settings, gain0=src.gain, fast=True, **codesign.SYNTHESIS_OPTIONS)
     print(f"warm start from the truss-tolerant design: dense {r.time_s:.1f} s ({r.iterations} it, J_c {r.j_c:.5f}), "
           f"fast {fast.time_s:.1f} s ({fast.iterations} it, J_c {fast.j_c:.5f}, {fast.fallbacks} fallbacks)")
-    return dict(source=dict(h=h0, shifts=list(shifts), time_s=src.time_s, iterations=src.iterations, J_c=src.j_c, Z_c=src.z_c,
-                            success=src.success),
+    # the warm start a co-design makes: the source's gain and its final scenario set (notebook 07's Step 3)
+    with_set = {path: _row(design.robust_design(m, settings, gain0=src.gain, scenarios=src.scenarios, fast=path == "fast",
+                                                **codesign.SYNTHESIS_OPTIONS)) for path in ("dense", "fast")}
+    print("with the source's scenario set: " + ", ".join(f"{path} {row['time_s']:.1f} s ({row['iterations']} it, "
+                                                           f"{row['searches']} searches, J_c {row['J_c']:.5f})"
+                                                           for path, row in with_set.items()))
+    return dict(source=dict(h=h0, shifts=list(shifts), fast=fast_source, time_s=src.time_s, iterations=src.iterations, J_c=src.j_c,
+                            Z_c=src.z_c, success=src.success),
                 start_max_real=max(float(p.eigen.lam.real.max()) for p in peaks), start_J=max(p.norm("rpe") for p in peaks),
                 start_Z=max(p.norm("effort") for p in peaks), time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations,
                 J_c=r.j_c, Z_c=r.z_c, success=r.success, scenarios=len(r.scenarios),
-                fast=_row(fast))
+                fast=_row(fast), with_source_scenarios=dict(scenarios=len(src.scenarios), **with_set))
 
 
 def _fast_against_dense(settings: LoopSettings) -> dict:
@@ -126,8 +134,9 @@ def main() -> None:
     if args.only:
         out = json.loads(path.read_text()) if path.exists() else {}
         if args.only == "tolerant":
-            out["warm_from_truss_tolerant_2.1cm"] = case = _warm_from_tolerant(settings)
-            print(f"warm_from_truss_tolerant_2.1cm: {case}")
+            for name, fast_source in (("warm_from_truss_tolerant_2.1cm", False), ("warm_from_truss_tolerant_2.1cm_fast_source", True)):
+                out[name] = case = _warm_from_tolerant(settings, fast_source=fast_source)
+                print(f"{name}: {case}")
         else:
             out["fast_against_dense"] = _fast_against_dense(settings)
         path.write_text(json.dumps(out, indent=2) + "\n")
@@ -152,6 +161,7 @@ def main() -> None:
                                                                 success=co.success, scenarios=len(co.scenarios))
     out["warm_from_grid_2.1cm"] = _warm_from_grid(0.021, (0.0001, 0.00039, 0.001), settings)
     out["warm_from_truss_tolerant_2.1cm"] = _warm_from_tolerant(settings)
+    out["warm_from_truss_tolerant_2.1cm_fast_source"] = _warm_from_tolerant(settings, fast_source=True)
     out["fast_against_dense"] = _fast_against_dense(settings)
     m25 = design.models_at(0.025)
     for name, opts in (("cold_2.5cm_default_tol", {}), ("cold_2.5cm_codesign_tol", codesign.SYNTHESIS_OPTIONS)):

@@ -560,6 +560,8 @@ class SynthesisResult:
         Per accepted iteration: J, Z, trust radius, phase.
     fallbacks : int
         With ``fast``: evaluations at which the fast path's pole checks failed and the dense eig was used.
+    searches : int
+        Rounds that ended with a worst-case search over the box (on the model and on every variant).
     """
 
     gain: NDArray[np.float64]
@@ -574,6 +576,7 @@ class SynthesisResult:
     evaluations: int
     history: list[dict] = field(default_factory=list)
     fallbacks: int = 0
+    searches: int = 0
 
 
 @dataclass
@@ -752,6 +755,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     scen = list(default_scenarios() if scenarios is None else scenarios)
     loops = [(model, inertia_p1)] + [(m, inertia) for m, inertia in variants]
     worst: WorstCase | None = None
+    searches = 0
     message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
     with _workers(workers) as pmap:
         def plants_for(scs: Sequence[Scenario]) -> list[GeneralizedPlant]:
@@ -770,6 +774,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             worst = _merge([worst_case(m, gain, inertia, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
                                        min_damping=search_damping * min_damping_all) for m, inertia in loops])
             prob.evaluations += worst.evaluations
+            searches += 1
             added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin)
             if verbose:
                 print(f"round {round_}: {len(prob.plants)} scenario plants, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
@@ -794,7 +799,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     if not success and covered:
         message = f"not a valid design: stable={stable}, Z_c={z_c:.4f} (bound {settings.gamma_u})"
     return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, prob.iterations, time.perf_counter() - t0,
-                           prob.evaluations, prob.history, prob.fallbacks())
+                           prob.evaluations, prob.history, prob.fallbacks(), searches)
 
 
 @dataclass

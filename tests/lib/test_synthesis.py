@@ -258,6 +258,7 @@ def test_variants_are_built_at_every_scenario_and_searched(monkeypatch, model, i
     res = synthesis.synthesize(model, inertia, ST, scenarios=[s1, s2], variants=[(model, 2.0 * inertia)], workers=1)
     assert built == [(1.0, s1), (1.0, s2), (2.0, s1), (2.0, s2), (1.0, s_new), (2.0, s_new)]
     assert searched == [1.0, 2.0, 1.0, 2.0]
+    assert res.searches == 2  # two rounds, each searching both loops
     assert res.scenarios == [s1, s2, s_new] and res.message.startswith("converged")
     assert res.success and np.isclose(res.j_c, 0.06)  # plant 5: the variant at the added scenario
 
