@@ -15,6 +15,7 @@ Run: python benchmarks/search_refinement.py [--swarm-designs 6] [--seed 0]
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
 import platform
@@ -30,7 +31,8 @@ from lib import design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
-SEARCH_DAMPING = 0.75 * 2e-4  # synthesize's defaults: search_damping x min_damping_all
+_DEFAULTS = {k: v.default for k, v in inspect.signature(synthesis.synthesize).parameters.items()}
+SEARCH_DAMPING = _DEFAULTS["search_damping"] * _DEFAULTS["min_damping_all"]  # what a synthesis's searches require
 
 
 def _designs(n_swarm: int, seed: int) -> list[dict]:
