@@ -231,7 +231,7 @@ def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> N
 
 def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[float, float] = (1e-2, 3e3), n_log: int = 120,
                n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS, min_damping: float = 0.0,
-               lazy_cap: bool = False, modal: ModalLoop | None = None) -> LoopPeaks:
+               lazy_cap: bool = False, modal: ModalLoop | None = None, passive_near: complex | None = None) -> LoopPeaks:
     """Peaks of ``sigma_max(T_{p~ -> group}(jw))`` of the closed loop, on a peak-aware grid, refined.
 
     Parameters
@@ -258,6 +258,12 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         requirement fails. ``stable`` is the same either way (the cap only lowers the requirement); ``abscissa`` and
         the margins of ``eigen`` then hold the uncapped requirement whenever it is met. For callers that use only
         ``stable`` and the peaks (the worst-case search, whose plants are new at every call).
+    passive_near : complex, optional
+        With ``lazy_cap``: a pole near the plant's least damped passive pole [rad/s] (e.g. another scenario's
+        :meth:`lib.closedloop.GeneralizedPlant.passive_pole`). The cap is then first bounded from above by the damping
+        of the passive pole nearest it (:meth:`~lib.closedloop.GeneralizedPlant.passive_damping_bound`, a tenth of the
+        cost of the cap); the cap itself is computed only if the requirement fails with that bound. ``stable`` is the
+        same (the bound only raises the requirement), the cheaper check is conclusive at most scenarios.
     modal : lib.modalloop.ModalLoop, optional
         The plant's open-loop modal form: poles by the Aberth iteration and responses from the open-loop modal
         form, ``O(n^2)`` per gain instead of a dense eigen-decomposition (``O(n^3)``); the top peaks are then not
@@ -297,8 +303,12 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         def sigmas(w: NDArray, group_of: NDArray) -> NDArray:
             t = response(w)  # one response for all the groups
             return _per_group(groups, group_of, lambda group, at: sigma_max(t[at][:, rows[group]]))
-    if min_damping > 0 and not (lazy_cap and lam.size and np.max(lam.real + min_damping * np.abs(lam)) < -min_decay):
-        min_damping = min(min_damping, 0.5 * plant.passive_damping())
+    def meets(zeta_req: float) -> bool:
+        return bool(lam.size) and np.max(lam.real + zeta_req * np.abs(lam)) < -min_decay
+
+    if min_damping > 0 and not (lazy_cap and meets(min_damping)):
+        bound = min(min_damping, 0.5 * plant.passive_damping_bound(passive_near)) if lazy_cap and passive_near is not None else -1.0
+        min_damping = bound if bound >= 0 and meets(bound) else min(min_damping, 0.5 * plant.passive_damping())
     value = lam.real + min_damping * np.abs(lam)
     if modal is None:
         eigen = _Eigen.dense(lam, vec, value, plant.b[:, ne:], plant.c[nr:, :])
@@ -471,9 +481,12 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     evals = 0
     unstable: list[Scenario] = []
 
+    # the least damped passive pole of the nominal plant: near it, each scenario's cap is bounded cheaply (loop_peaks)
+    near = plant_at(model, Scenario(), inertia_p1, settings).passive_pole() if min_damping > 0 else None
+
     def evaluate(sc: Scenario, groups: Sequence[str] = GROUPS) -> LoopPeaks:
         lp = loop_peaks(plant_at(model, sc, inertia_p1, settings), gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping,
-                        lazy_cap=True, groups=groups)
+                        lazy_cap=True, groups=groups, passive_near=near)
         if not lp.stable:
             unstable.append(sc)
         return lp

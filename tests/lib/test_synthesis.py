@@ -196,6 +196,56 @@ def test_lazy_cap_gives_the_same_decision(model, inertia, monkeypatch):
     assert outcomes == {True, False}  # both decisions exercised
 
 
+def test_passive_damping_bound_by_inverse_iteration(model, inertia):
+    """The cheap upper bound on a new scenario's passive damping (inverse iteration near the nominal plant's least damped
+    passive pole): never below the dense value, and equal to it within the stated margin when it finds the same mode;
+    no bound (inf) when the iteration cannot converge (a shift halfway between two poles)."""
+    from lib.closedloop import PASSIVE_BOUND_MARGIN
+
+    near = plant_at(model, Scenario(), inertia, ST).passive_pole()
+    for sc in (Scenario(0.5, -1.0, 1.0, np.deg2rad(60.0)), Scenario(-1.0, 1.0, -1.0, np.deg2rad(150.0))):
+        bound = plant_at(model, sc, inertia, ST).passive_damping_bound(near)
+        exact = plant_at(model, sc, inertia, ST).passive_damping()
+        assert exact <= bound <= exact * (1 + PASSIVE_BOUND_MARGIN) * (1 + 1e-6)
+    lam = np.linalg.eigvals(plant_at(model, Scenario(), inertia, ST).a)
+    upper = lam[lam.imag > 1.0]
+    upper = upper[np.argsort(upper.imag)]
+    middle = 0.5 * (upper[0] + upper[1])  # equidistant from two poles: the iteration has no preferred direction
+    assert plant_at(model, Scenario(), inertia, ST).passive_damping_bound(middle, iterations=3) == np.inf
+
+
+def test_lazy_cap_with_the_passive_bound_gives_the_same_decision(model, inertia, monkeypatch):
+    """With ``passive_near``, the lazy cap first uses the cheap bound on the passive damping: same ``stable`` and peaks
+    as the eager cap at every requirement; the dense passive poles are computed only where the bound cannot decide:
+    never with the nominal least damped passive pole as the shift (the same mode), at high requirements with the shift
+    on a well damped mode (a loose bound)."""
+    from lib.closedloop import PASSIVE_BOUND_MARGIN, GeneralizedPlant
+
+    sc = Scenario(0.5, -1.0, 1.0, np.deg2rad(60.0))
+    probe = plant_at(model, sc, inertia, ST)
+    lam = probe.closed_loop_poles(GAIN)
+    zeta_cl = float(np.min(-lam.real / np.abs(lam)))
+    passive_poles = np.linalg.eigvals(probe.a)
+    zeta_passive = -passive_poles.real / np.abs(passive_poles)
+    damped = passive_poles[np.argmax(np.where((passive_poles.imag > 1.0) & (zeta_passive < 0.1), zeta_passive, 0.0))]
+    dense = []
+    original = GeneralizedPlant.passive_pole
+    monkeypatch.setattr(GeneralizedPlant, "passive_pole", lambda self: dense.append(1) or original(self))
+    near = plant_at(model, Scenario(), inertia, ST).passive_pole()
+    branches = set()
+    for shift in (near, damped):
+        found = zeta_passive[np.argmin(np.abs(passive_poles - shift))]  # the mode the iteration converges to
+        for req in (0.9 * zeta_cl, 1.1 * zeta_cl, 2.5 * zeta_cl, 5.0 * zeta_cl, 50.0 * zeta_cl):
+            eager = synthesis.loop_peaks(plant_at(model, sc, inertia, ST), GAIN, min_damping=req)
+            dense.clear()
+            lazy = synthesis.loop_peaks(plant_at(model, sc, inertia, ST), GAIN, min_damping=req, lazy_cap=True, passive_near=shift)
+            assert lazy.stable == eager.stable and lazy.peaks == eager.peaks
+            expected = req > zeta_cl and zeta_cl <= min(req, 0.5 * found * (1 + PASSIVE_BOUND_MARGIN))
+            assert bool(dense) == expected
+            branches.add(expected)
+    assert branches == {True, False}
+
+
 def test_merged_worst_case_takes_each_group_from_the_loop_where_it_is_worst():
     """The search of a synthesis with variants (several open loops): per group the largest value with its scenario and
     frequency, every unstable scenario of every loop, the evaluations summed; one loop is returned unchanged."""
