@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import time
 from pathlib import Path
 
 import numpy as np
 
+from _machine import machine_info
 from lib import design, reduction, spacecraft, truss, titop
 
 
@@ -74,7 +74,7 @@ def main() -> None:
         print(f"{name:42s} {med:11.3f} {best:9.3f}")
     out = Path(__file__).resolve().parent / "results"
     out.mkdir(exist_ok=True)
-    payload = {"machine": {"python": platform.python_version(), "processor": platform.processor(), "machine": platform.machine()},
+    payload = {"machine": machine_info(),
                "repeat": args.repeat, "seconds": {k: {"median": v[0], "best": v[1]} for k, v in rows.items()}}
     (out / "build_open_loop.json").write_text(json.dumps(payload, indent=2) + "\n")
     print(f"saved {out / 'build_open_loop.json'}")

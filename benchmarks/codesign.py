@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import time
 from pathlib import Path
 
@@ -29,6 +28,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from _machine import machine_info  # noqa: E402
 from lib import codesign  # noqa: E402
 
 
@@ -66,7 +66,7 @@ def main() -> None:
     mean = lambda k: float(np.mean([r[k] for r in own]))  # noqa: E731
     best = min(hist, key=lambda r: r["f"])
     out = {
-        "machine": {"python": platform.python_version(), "machine": platform.machine(), "cpus": os.cpu_count()},
+        "machine": machine_info(),
         "particles": particles, "iterations": iterations, "workers": n_workers, "particle_records": len(hist),
         "evaluations": len(own), "wall_time_s": wall, "wall_time_min": wall / 60,
         "iteration_wall_s": state.extra.get("iteration_wall_s", []),

@@ -28,7 +28,6 @@ import argparse
 import inspect
 import json
 import os
-import platform
 import time
 from pathlib import Path
 
@@ -36,6 +35,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from _machine import machine_info  # noqa: E402
 from lib import codesign, design, pso, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
@@ -58,7 +58,7 @@ def main() -> None:
     scen = [synthesis.Scenario.from_vector(v) for v in state.extra["best_scenarios"]]
     from lib.modalloop import ModalLoop
 
-    out: dict = {"machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "blas_threads": 1},
+    out: dict = {"machine": machine_info(),
                  "synthesis": synthesis.ALGORITHM, "gain": "warm-start gain of the stored swarm (best particle of its last iteration)", "per_h": []}
     models = {}
     for h in (0.015, 0.02139, 0.03):

@@ -16,13 +16,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from _machine import machine_info  # noqa: E402
 from lib import codesign, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
@@ -56,7 +56,7 @@ def main() -> None:
     same = [r for r in rows if np.isfinite(r["dense_J_c"]) and np.isfinite(r["fast_J_c"])
             and abs(r["fast_J_c"] - r["dense_J_c"]) <= 1e-4 * r["dense_J_c"]]
     i_d, i_f = int(np.argmin([r["dense_f"] for r in rows])), int(np.argmin([r["fast_f"] for r in rows]))
-    out = dict(machine={"python": platform.python_version(), "cpus": os.cpu_count(), "blas_threads": 1},
+    out = dict(machine=machine_info(),
                synthesis=synthesis.ALGORITHM, workers=args.workers, points=len(hs),
                wall_s=dict(dense=dense.get("time_s"), fast=time_s),
                synthesis_s_total=dict(dense=float(sum(r["dense_t_synthesis"] for r in rows)),

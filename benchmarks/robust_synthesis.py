@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import time
 from pathlib import Path
 
@@ -35,6 +34,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from _machine import machine_info  # noqa: E402
 from lib import design, robustness  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
@@ -142,7 +142,7 @@ def main() -> None:
         path.write_text(json.dumps(out, indent=2) + "\n")
         print(f"saved {path}")
         return
-    out: dict = {"machine": {"python": platform.python_version(), "machine": platform.machine(), "cpus": os.cpu_count()}}
+    out: dict = {"machine": machine_info()}
     t0 = time.perf_counter()
     m = design.models_at(0.02139)
     out["models_at_s"] = time.perf_counter() - t0

@@ -18,7 +18,6 @@ import argparse
 import inspect
 import json
 import os
-import platform
 import time
 from pathlib import Path
 
@@ -27,6 +26,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from threadpoolctl import threadpool_limits  # noqa: E402
 
+from _machine import machine_info  # noqa: E402
 from lib import design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
@@ -74,7 +74,7 @@ def main() -> None:
     share = sum(r["full_s"] - r["grid_s"] for r in rows) / sum(r["full_s"] for r in rows)
     print(f"refinement: {100 * share:.0f} % of the search time; largest increase J "
           f"{max(r['rpe']['increase_pct'] for r in rows):.2f} %, Z {max(r['effort']['increase_pct'] for r in rows):.2f} %")
-    out = dict(machine=dict(python=platform.python_version(), machine=platform.machine(), cpus=os.cpu_count()),
+    out = dict(machine=machine_info(),
                synthesis_algorithm=synthesis.ALGORITHM, threads=1, refinement_time_share=share, designs=rows)
     path = Path(__file__).parent / "results" / "search_refinement.json"
     path.write_text(json.dumps(out, indent=2) + "\n")

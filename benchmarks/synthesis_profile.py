@@ -29,7 +29,6 @@ import argparse
 import cProfile
 import json
 import os
-import platform
 import pstats
 import time
 from pathlib import Path
@@ -38,6 +37,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from threadpoolctl import threadpool_limits  # noqa: E402
 
+from _machine import machine_info  # noqa: E402
 from lib import codesign, design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
@@ -104,7 +104,7 @@ def main() -> None:
         for label, _, _ in PARTS:
             print(f"    {label:16s} {p[label]:7.1f} s  {100 * p[label] / r['t_synthesis_s']:5.1f} %")
         print(f"    {'other':16s} {r['other_s']:7.1f} s")
-    out = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "blas_threads": 1},
+    out = {"machine": machine_info(),
            "synthesis": synthesis.ALGORITHM, "options": codesign.SYNTHESIS_OPTIONS, "runs": rows,
            "note": "standard-library profiler (cProfile); times include its overhead"}
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
