@@ -31,3 +31,31 @@ def test_bounds_ordered_tight_and_achieved(models, theta_deg):
 def test_physical_deltas(models):
     phys = robustness.physical_deltas(models.g_r_low, {"M_SC": -1.0, "Iyy_SC": 1.0, "omega1_SP": 0.0})
     assert np.isclose(phys["M_SC"], 640.0) and np.isclose(phys["Iyy_SC"], 1200.0) and np.isclose(phys["omega1_SP"], 2.51)
+
+
+def test_sweep_same_bounds_in_order_on_dask_workers(models):
+    """The angles run on two Dask workers come back in the order asked, with the bounds computed in this process:
+    the lower bounds to the last bit, the upper bounds (SDP solves, not bitwise repeatable) to 1e-5 relative."""
+    from lib import codesign
+
+    thetas = np.deg2rad([100.0, 20.0])
+    kw = dict(n_log=60, seed=3)
+    here = robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST, **kw)
+    assert [out["rpe"].theta_deg for out in here] == pytest.approx([100.0, 20.0])
+    client = codesign.local_client(2)
+    try:
+        there = robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST, client=client, **kw)
+    finally:
+        client.close()
+        client.cluster.close()
+    for a, b in zip(here, there):
+        for group in ("rpe", "effort"):
+            assert a[group].theta_deg == b[group].theta_deg
+            assert a[group].lower == b[group].lower and a[group].omega_lower == b[group].omega_lower
+            assert b[group].upper == pytest.approx(a[group].upper, rel=1e-5)
+
+
+@pytest.mark.parametrize("thetas", [[], [np.nan], [[0.1, 0.2]]])
+def test_sweep_rejects_bad_angles(models, thetas):
+    with pytest.raises(ValueError, match="thetas"):
+        robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST)
