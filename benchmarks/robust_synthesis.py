@@ -139,6 +139,7 @@ def main() -> None:
                 print(f"{name}: {case}")
         else:
             out["fast_against_dense"] = _fast_against_dense(settings)
+        out.setdefault("machine_of_only_runs", {})[args.only] = machine_info()  # "machine" is the full run's
         path.write_text(json.dumps(out, indent=2) + "\n")
         print(f"saved {path}")
         return
