@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import spacecraft, synthesis
 from .closedloop import LoopSettings
+from .results import read_keyed, write_json
 from .synthesis import Scenario
 
 __all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid",
@@ -180,8 +181,6 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     """
     from tqdm.auto import tqdm
 
-    from .results import write_json
-
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
     kw = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
     keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
@@ -220,22 +219,9 @@ def _tag(key: tuple[float, bool]) -> str:
     return f"{key[0]!r}|{key[1]}"
 
 
-def _read_keyed(path: str | Path | None, key: dict | None) -> tuple[dict | None, dict]:
-    """A results file written with ``key`` (None if absent or written with another key), and the key as it reads
-    back from a file (what is written with new results)."""
-    from .results import from_jsonable
-
-    key = json.loads(json.dumps(key, default=str))
-    if path is not None and Path(path).exists():
-        stored = from_jsonable(json.loads(Path(path).read_text()))
-        if stored.get("key") == key:
-            return stored, key
-    return None, key
-
-
 def _read_partial(path: str | Path | None, key: dict | None) -> dict:
     """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
-    stored, key = _read_keyed(path, key)
+    stored, key = read_keyed(path, key)
     return stored or {"key": key, "records": {}, "time_s": 0.0}
 
 
@@ -274,9 +260,7 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     time_s : float
         Wall time spent evaluating, summed over the calls that did it [s].
     """
-    from .results import write_json
-
-    stored, key = _read_keyed(cache, key)
+    stored, key = read_keyed(cache, key)
     fresh = stored is None or len(stored.get("records", [])) != len(hs)
     records: list[dict | None] = [None] * len(hs) if fresh else stored["records"]
     time_s = 0.0 if fresh else float(stored.get("time_s", 0.0))

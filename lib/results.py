@@ -13,7 +13,7 @@ import numpy as np
 from . import __version__
 from .paths import resolve
 
-__all__ = ["to_jsonable", "from_jsonable", "save_results", "load_results"]
+__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_keyed", "save_results", "load_results"]
 
 
 def to_jsonable(value: Any) -> Any:
@@ -56,6 +56,20 @@ def write_json(path: str | Path, payload: Any) -> Path:
     tmp.write_text(json.dumps(to_jsonable(payload)))
     os.replace(tmp, path)
     return path
+
+
+def read_keyed(path: str | Path | None, key: Any) -> tuple[dict | None, Any]:
+    """A file written by :func:`write_json` as ``{"key": key, ...}`` (None if absent or written with another key), and
+    the key as it reads back from a file (what to write with new results).
+
+    The key holds what the stored results depend on (settings, gains, versions): results computed with another key are
+    never reused. Objects JSON cannot hold are keyed by their ``str`` (give arrays as lists)."""
+    key = json.loads(json.dumps(key, default=str))
+    if path is not None and Path(path).exists():
+        stored = from_jsonable(json.loads(Path(path).read_text()))
+        if stored.get("key") == key:
+            return stored, key
+    return None, key
 
 
 def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "data/results",

@@ -16,7 +16,8 @@ the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexi
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -25,6 +26,7 @@ from threadpoolctl import threadpool_limits
 from .closedloop import LoopSettings
 from .lft import LFT
 from .mu import lft_upper, wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
+from .results import read_keyed, write_json
 from .synthesis import Scenario, plant_at
 
 __all__ = ["KEEP", "ModalResponse", "AngleBounds", "bounds_at_angle", "physical_deltas", "sweep"]
@@ -200,8 +202,19 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
     return out
 
 
+def _record(bounds: dict[str, AngleBounds]) -> dict:
+    """JSON-ready form of the bounds at one angle (see :func:`_from_record`)."""
+    return {group: asdict(b) for group, b in bounds.items()}
+
+
+def _from_record(rec: dict) -> dict[str, AngleBounds]:
+    return {group: AngleBounds(**{**b, "omegas": np.asarray(b["omegas"], dtype=float), "betas": np.asarray(b["betas"], dtype=float)})
+            for group, b in rec.items()}
+
+
 def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, client=None,
-          progress: Callable[[Iterable], Iterable] = iter, **options) -> list[dict[str, AngleBounds]]:
+          progress: Callable[[Iterable], Iterable] = iter, partial: str | Path | None = None, partial_key: dict | None = None,
+          **options) -> list[dict[str, AngleBounds]]:
     """:func:`bounds_at_angle` at each panel angle of ``thetas`` [rad], in parallel on a Dask client if given.
 
     The angles are independent and each is computed in one thread (one BLAS thread) from its own seed, so the
@@ -220,6 +233,13 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
         E.g. :func:`lib.codesign.local_client` (one single-threaded worker per core); default: this process.
     progress : callable
         Wraps the iterable of finished angles (e.g. a tqdm progress bar with ``total=len(thetas)``).
+    partial : path, optional
+        JSON file where each finished angle is saved at once, so that an interrupted sweep loses only the angles under
+        way: a sweep with the same gain, inertia, settings, options and ``partial_key`` (what identifies
+        ``model_low``: e.g. h and the spacecraft parameters) takes the angles it holds from it. Removed once the sweep is
+        complete.
+    partial_key : dict, optional
+        See ``partial``.
     **options
         Keyword options of :func:`bounds_at_angle` (``n_log``, ``focus``, ``seed``, ...).
 
@@ -232,15 +252,34 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     if angles.ndim != 1 or not angles.size or not np.all(np.isfinite(angles)):
         raise ValueError(f"thetas must be a non-empty 1-D array of finite panel angles [rad], got {thetas!r}")
     gain = np.asarray(gain, dtype=float)
-    if client is None:  # one BLAS thread, as on a worker: the same arithmetic
-        with threadpool_limits(1):
-            return [bounds_at_angle(model_low, float(th), gain, inertia_p1, settings, **options) for th in progress(angles)]
-    from dask.distributed import as_completed
+    key = dict(model=partial_key, gain=gain.tolist(), inertia=np.asarray(inertia_p1, dtype=float).tolist(), settings=settings.__dict__,
+               options=options)
+    stored, key = read_keyed(partial, key)
+    records = stored["records"] if stored else {}
+    tags = [repr(float(th)) for th in angles]
+    out: list[dict[str, AngleBounds] | None] = [_from_record(records[t]) if t in records else None for t in tags]
+    todo = [i for i, b in enumerate(out) if b is None]
 
-    model = client.scatter(model_low, broadcast=True)  # sent once per worker, not once per angle
-    futures = {client.submit(bounds_at_angle, model, float(th), gain, inertia_p1, settings, pure=False, retries=2, **options): i
-               for i, th in enumerate(angles)}
-    out: list[dict[str, AngleBounds] | None] = [None] * len(angles)
-    for fut in progress(as_completed(futures)):
-        out[futures[fut]] = fut.result()
+    def finished():  # (index, bounds) of the angles as they finish, those read from ``partial`` first
+        yield from ((i, b) for i, b in enumerate(out) if b is not None)
+        if client is None:
+            for i in todo:
+                yield i, bounds_at_angle(model_low, float(angles[i]), gain, inertia_p1, settings, **options)
+            return
+        from dask.distributed import as_completed
+
+        model = client.scatter(model_low, broadcast=True)  # sent once per worker, not once per angle
+        futures = {client.submit(bounds_at_angle, model, float(angles[i]), gain, inertia_p1, settings, pure=False, retries=2,
+                                 **options): i for i in todo}
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+
+    with threadpool_limits(1):  # in this process, one BLAS thread as on a worker: the same arithmetic
+        for i, bounds in progress(finished()):
+            if out[i] is None and partial is not None:
+                records[tags[i]] = _record(bounds)
+                write_json(partial, {"key": key, "records": records})
+            out[i] = bounds
+    if partial is not None and Path(partial).exists():
+        Path(partial).unlink()
     return out  # type: ignore[return-value]

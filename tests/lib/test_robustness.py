@@ -59,3 +59,52 @@ def test_sweep_same_bounds_in_order_on_dask_workers(models):
 def test_sweep_rejects_bad_angles(models, thetas):
     with pytest.raises(ValueError, match="thetas"):
         robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST)
+
+
+
+def _fake_bounds(calls: list, fail: dict):
+    """A stand-in for bounds_at_angle (to test the bookkeeping of the sweep, not the bounds), raising at the angle
+    ``fail["at"]`` [deg] if it is set."""
+    def fake(model, theta, gain, inertia, settings, **options):
+        deg = float(np.rad2deg(theta))
+        calls.append(deg)
+        if fail.get("at") is not None and abs(deg - fail["at"]) < 1e-9:
+            raise ValueError("injected failure")
+        return {"rpe": robustness.AngleBounds(deg, 1 / 3 + theta, 0.3 + theta, 1.7, 1.6, {"M_SC": -0.1, "Iyy_SC": 1.0}, 2,
+                                              ["optimal", "branch and bound"], np.array([1.0, np.pi]), np.array([0.3, np.inf]))}
+    return fake
+
+
+def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
+    """An interrupted sweep keeps its finished angles in the partial file; the rerun computes only the others, gets the
+    saved ones back exactly, and removes the file once complete. Another gain or model key reuses nothing."""
+    calls: list[float] = []
+    fail = {"at": 90.0}
+    monkeypatch.setattr(robustness, "bounds_at_angle", _fake_bounds(calls, fail))
+    thetas, part = np.deg2rad([0.0, 45.0, 90.0]), tmp_path / "sweep.partial.json"
+
+    def run(gain=-np.ones((4, 8)), key=None):
+        return robustness.sweep(None, thetas, gain, np.eye(3), ST, partial=part, partial_key=key or {"h": 0.02}, n_log=10)
+
+    with pytest.raises(ValueError, match="injected"):
+        run()
+    assert part.exists() and calls == pytest.approx([0.0, 45.0, 90.0])
+    calls.clear()
+    fail["at"] = None
+    out = run()
+    assert calls == pytest.approx([90.0]) and not part.exists()
+    for got, theta in zip(out, thetas):
+        want = _fake_bounds([], {})(None, theta, None, None, None)["rpe"]
+        for name in ("theta_deg", "upper", "lower", "omega_upper", "omega_lower", "deltas", "n_upper", "statuses"):
+            assert getattr(got["rpe"], name) == getattr(want, name)
+        np.testing.assert_array_equal(got["rpe"].omegas, want.omegas)
+        np.testing.assert_array_equal(got["rpe"].betas, want.betas)
+    for other in (dict(gain=2 * np.ones((4, 8))), dict(key={"h": 0.03})):
+        fail["at"] = 90.0
+        with pytest.raises(ValueError, match="injected"):
+            run()  # leaves 0 and 45 deg under the first key
+        calls.clear()
+        with pytest.raises(ValueError, match="injected"):
+            run(**other)
+        assert calls == pytest.approx([0.0, 45.0, 90.0])
+        part.unlink()
