@@ -27,7 +27,7 @@ from __future__ import annotations
 import functools
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import cvxpy as cp
 import numpy as np
@@ -72,12 +72,15 @@ class UpperSweep:
 
 @dataclass(frozen=True)
 class LowerBound:
-    """Achieved gain ``sigma_max(F_u(M(j omega), Delta(deltas)))`` (``omega`` in rad/s) after ``evaluations``."""
+    """Achieved gain ``sigma_max(F_u(M(j omega), Delta(deltas)))`` (``omega`` in rad/s) after ``evaluations``;
+    ``corner_gains``: at each frequency of the grid, the largest gain at the nominal point and the box corners (1024
+    random corners beyond 10 blocks)."""
 
     gain: float
     omega: float
     deltas: NDArray[np.float64]
     evaluations: int
+    corner_gains: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
 
 
 def _block_sizes(blocks: Sequence) -> tuple[int, ...]:
@@ -517,11 +520,12 @@ def wc_gain_lower(m_of_w: MOfW, blocks: Sequence, omegas: ArrayLike, n_starts: i
         if gain > best["gain"]:
             best.update(gain=gain, omega=wi, deltas=d.copy())
 
-    per_freq = []
+    per_freq, corner_gains = [], np.zeros(len(w))
     for i, wi in enumerate(w):
         cand = np.vstack([np.zeros(nbk), corners, rng.uniform(-1.0, 1.0, (n_random, nbk))])
-        ms, scale = _balanced(get(i, wi), sizes, f"m_of_w({wi:g})")
+        ms, scale = mats[wi] = _balanced(get(i, wi), sizes, f"m_of_w({wi:g})")
         gains = scale * np.linalg.norm(_fu(ms, sizes, cand), 2, axis=(1, 2))
+        corner_gains[i] = gains[:1 + len(corners)].max()
         top = np.argsort(-gains)[:n_starts]
         best["n"] += len(cand) - 1
         record(float(gains[top[0]]), wi, cand[top[0]])
@@ -553,4 +557,4 @@ def wc_gain_lower(m_of_w: MOfW, blocks: Sequence, omegas: ArrayLike, n_starts: i
             bounds.append((np.log(w[max(i - 1, 0)]), np.log(w[min(i + 1, len(w) - 1)])))
             v0 = np.r_[d0, np.log(w[i])]
         minimize(fun, v0, jac=True, method="L-BFGS-B", bounds=bounds, options={"maxiter": maxiter})
-    return LowerBound(float(best["gain"]), float(best["omega"]), np.asarray(best["deltas"]), int(best["n"]))
+    return LowerBound(float(best["gain"]), float(best["omega"]), np.asarray(best["deltas"]), int(best["n"]), corner_gains)

@@ -25,7 +25,7 @@ from threadpoolctl import threadpool_limits
 
 from .closedloop import LoopSettings
 from .lft import LFT
-from .mu import lft_upper, wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
+from .mu import wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
 from .results import read_keyed, write_json
 from .synthesis import Scenario, plant_at
 
@@ -173,10 +173,7 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
             resp = ModalResponse(a, b, c[rows], d[rows])
             grid = _grid(resp.lam, omega_range, n_log)
             lower = wc_gain_lower(resp, structure, grid, rng=seed)
-            # sampled worst case per frequency (corners, nominal) to focus the upper bound
-            corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * len(structure), indexing="ij")).reshape(len(structure), -1).T
-            cand = np.vstack([np.zeros(len(structure)), corners])
-            sampled = np.array([np.linalg.norm(lft_upper(resp(w), structure, cand), 2, axis=(1, 2)).max() for w in grid])
+            sampled = lower.corner_gains  # worst case per frequency over the nominal and the corners: where to bound
             order = np.argsort(-sampled)
             pick = [i for i in order[:max_upper] if sampled[i] >= focus * sampled[order[0]]]
             freqs = np.unique(np.r_[grid[pick], lower.omega])

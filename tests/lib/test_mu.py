@@ -124,6 +124,11 @@ def test_bounds_over_frequency():
     m_arr = np.array([freq_resp(ss, w) for w in omegas])
     np.testing.assert_allclose(mu.wc_gain_upper_sweep(m_arr, omegas, sizes).betas, sweep.betas, rtol=1e-12)
     lb_grid = mu.wc_gain_lower(m_arr, sizes, omegas, rng=0)
+    # the largest gain at the nominal point and the corners, per grid frequency (what notebook 08 focuses its upper bound by)
+    vertices = np.vstack([np.zeros(len(sizes)), np.array(np.meshgrid(*[[-1.0, 1.0]] * len(sizes))).reshape(len(sizes), -1).T])
+    at_vertices = [max(gains(m, sizes, vertices)) for m in m_arr]
+    np.testing.assert_allclose(lb.corner_gains, at_vertices, rtol=1e-12)
+    np.testing.assert_allclose(lb_grid.corner_gains, at_vertices, rtol=1e-12)
     assert lb_grid.omega in omegas and bf.max() * (1 - 1e-9) <= lb_grid.gain <= lb.gain * (1 + 1e-12)
     print(f"\nfrequency sweep: lower {lb.gain:.6g} at {lb.omega:.5g} rad/s (grid brute {bf.max():.6g}), "
           f"upper there {ub_star.beta:.6g} (ratio {ub_star.beta / lb.gain:.5f}), grid max upper {sweep.beta_max:.6g}")
