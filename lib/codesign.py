@@ -14,7 +14,6 @@ is logged; it never stops the run. Particles of an iteration are evaluated in pa
 
 from __future__ import annotations
 
-import json
 import time
 import traceback
 from collections.abc import Sequence
