@@ -115,11 +115,12 @@ def _fu(m: NDArray, sizes: tuple[int, ...], d2: NDArray) -> NDArray[np.complex12
     r = np.eye(n) - m[None, :n, :n] * dv[:, None, :]
     try:
         inv = np.linalg.inv(r)
-        # the condition number in the 1-norm (within a factor n of the 2-norm's), from the inverse the LFT needs anyway:
-        # np.linalg.cond's SVD of every matrix cost a sixth of a mu sweep (notebook 08: -17 % without it, same bounds)
-        cond = np.abs(r).sum(axis=1).max(axis=-1) * np.abs(inv).sum(axis=1).max(axis=-1)
-    except np.linalg.LinAlgError:  # one of them exactly singular: find it
-        cond = np.linalg.cond(r)
+    except np.linalg.LinAlgError:  # one of them exactly singular: name the worst
+        bad = d2[np.argmax(np.nan_to_num(np.linalg.cond(r), nan=np.inf))]
+        raise ValueError(f"ill-posed LFT: I - M11 Delta is singular for deltas = {bad.tolist()}") from None
+    # the condition number in the 1-norm (within a factor n of the 2-norm's), from the inverse the LFT needs anyway:
+    # np.linalg.cond's SVD of every matrix cost a sixth of a mu sweep (notebook 08: -17 % without it, same bounds)
+    cond = np.abs(r).sum(axis=1).max(axis=-1) * np.abs(inv).sum(axis=1).max(axis=-1)
     if not np.all(cond < _MAX_COND):
         bad = d2[np.argmax(~(cond < _MAX_COND))]
         raise ValueError(f"ill-posed LFT: I - M11 Delta is singular for deltas = {bad.tolist()}")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
+from inspect import signature
 from pathlib import Path
 
 import numpy as np
@@ -232,11 +233,11 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
         Wraps the iterable of finished angles (e.g. a tqdm progress bar with ``total=len(thetas)``).
     partial : path, optional
         JSON file where each finished angle is saved at once, so that an interrupted sweep loses only the angles under
-        way: a sweep with the same gain, inertia, settings, options and ``partial_key`` (what identifies
-        ``model_low``: e.g. h and the spacecraft parameters) takes the angles it holds from it. Removed once the sweep is
-        complete.
-    partial_key : dict, optional
-        See ``partial``.
+        way: a sweep with the same gain, inertia, settings, options (defaults included) and ``partial_key`` takes the
+        angles it holds from it. Removed once every angle is done. The key does not follow changes of the library's
+        code: delete a partial file left by an interrupted sweep before rerunning it with another version.
+    partial_key : dict
+        What identifies ``model_low`` (e.g. h and the spacecraft parameters); required with ``partial``.
     **options
         Keyword options of :func:`bounds_at_angle` (``n_log``, ``focus``, ``seed``, ...).
 
@@ -248,9 +249,14 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     angles = np.atleast_1d(np.asarray(thetas, dtype=float))
     if angles.ndim != 1 or not angles.size or not np.all(np.isfinite(angles)):
         raise ValueError(f"thetas must be a non-empty 1-D array of finite panel angles [rad], got {thetas!r}")
+    if partial is not None and not partial_key:
+        raise ValueError("partial_key is required with partial: give what identifies model_low (e.g. {'h': h, 'parameters': ...}), "
+                         "or angles of another model could be reused")
     gain = np.asarray(gain, dtype=float)
+    bound = signature(bounds_at_angle).bind_partial(**options)
+    bound.apply_defaults()
     key = dict(model=partial_key, gain=gain.tolist(), inertia=np.asarray(inertia_p1, dtype=float).tolist(), settings=settings.__dict__,
-               options=options)
+               options=dict(bound.arguments))  # the options given and the defaults of the others
     stored, key = read_keyed(partial, key)
     records = stored["records"] if stored else {}
     tags = [repr(float(th)) for th in angles]
@@ -277,6 +283,6 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
                 records[tags[i]] = _record(bounds)
                 write_json(partial, {"key": key, "records": records})
             out[i] = bounds
-    if partial is not None and Path(partial).exists():
+    if partial is not None and Path(partial).exists() and all(b is not None for b in out):
         Path(partial).unlink()
     return out  # type: ignore[return-value]

@@ -65,6 +65,8 @@ def test_lft_upper_matches_closed_loop_state_space():
             np.testing.assert_allclose(mu.lft_upper(m, sizes, dl), direct, rtol=1e-9, atol=1e-12)
     with pytest.raises(ValueError, match="ill-posed"):
         mu.lft_upper(np.eye(3), (1,), [1.0])  # I - M11 * 1 = 0
+    with pytest.raises(ValueError, match=r"ill-posed.*\[1\.0\]"):  # exactly singular within a batch: named
+        mu.lft_upper(np.eye(3), (1,), [[0.5], [1.0], [-0.5]])
     near = np.zeros((3, 3))  # I - M11 = [[1, 1], [1, 1 + 1e-15]] at delta = 1: invertible, condition number 4e15
     near[:2, :2] = [[0.0, -1.0], [-1.0, -1e-15]]
     near[2, 2] = 1.0

@@ -97,6 +97,7 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
         want = _fake_bounds([], {})(None, theta, None, None, None)["rpe"]
         for name in ("theta_deg", "upper", "lower", "omega_upper", "omega_lower", "deltas", "n_upper", "statuses"):
             assert getattr(got["rpe"], name) == getattr(want, name)
+        assert isinstance(got["rpe"].omegas, np.ndarray) and isinstance(got["rpe"].betas, np.ndarray)
         np.testing.assert_array_equal(got["rpe"].omegas, want.omegas)
         np.testing.assert_array_equal(got["rpe"].betas, want.betas)
     for other in (dict(gain=2 * np.ones((4, 8))), dict(key={"h": 0.03})):
@@ -108,3 +109,5 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
             run(**other)
         assert calls == pytest.approx([0.0, 45.0, 90.0])
         part.unlink()
+    with pytest.raises(ValueError, match="partial_key"):  # a partial file needs what identifies the model
+        robustness.sweep(None, thetas, -np.ones((4, 8)), np.eye(3), ST, partial=part)
