@@ -25,21 +25,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from lib import codesign, design, results, robustness  # noqa: E402
+from lib import codesign, design, robustness  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
-
-
-def _design(source: str) -> tuple[str, float, np.ndarray]:
-    """(source, h [m], gain) of the design notebook 08 would analyse."""
-    if source in ("auto", "07"):
-        try:
-            best = results.load_results("07_pso_codesign", "data/results")["results"]["optimum"]
-            return "07", float(best["h"]), np.array(best["gain"], dtype=float)
-        except (FileNotFoundError, KeyError):
-            if source == "07":
-                raise
-    stored = results.load_results("06_robust_synthesis", "data/results")["results"]["designs"]["2.139"]
-    return "06", 0.02139, np.array(stored["gain"], dtype=float)
 
 
 def _flat(sweep: list[dict]) -> dict[str, np.ndarray]:
@@ -54,7 +41,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     settings = LoopSettings.from_parameters()
-    source, h, gain = _design(args.design)
+    source, h, gain = design.stored_design(args.design)
     models = design.models_at(h)
     thetas = 4 * np.arctan(np.linspace(0.0, 1.0, args.n_tau))
     opts = dict(n_log=150, focus=0.7, seed=2026)
@@ -70,8 +57,7 @@ def main() -> None:
     try:
         par = robustness.sweep(models.g_r_low, thetas, gain, models.inertia, settings, client=client, **opts)
     finally:
-        client.close()
-        client.cluster.close()
+        codesign.close_client(client)
     t_par = time.perf_counter() - t0
     a, b = _flat(seq), _flat(par)
     diff = {key: float(np.max(np.abs(b[key] / a[key] - 1))) for key in a}

@@ -27,7 +27,7 @@ from .closedloop import LoopSettings
 from .results import read_keyed, write_json
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid",
+__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
@@ -160,6 +160,13 @@ def local_client(n_workers: int | None = None, scheduler: str | None = None):
     with dask.config.set(NANNY_ENVIRON):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
     return Client(cluster)
+
+
+def close_client(client) -> None:
+    """Close a client of :func:`local_client`, and the local cluster it started (a scheduler of your own stays up)."""
+    client.close()
+    if client.cluster is not None:
+        client.cluster.close()
 
 
 def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,

@@ -22,12 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import reduction, spacecraft
+from . import reduction, results, spacecraft
 from .closedloop import LoopSettings
 from .lft import LFT
 from .synthesis import Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "truss_shift_check",
+__all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
            "truss_variants"]
 
 
@@ -236,3 +236,34 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
     kwargs.setdefault("omega_check", models.omega_max)
     return synthesize(models.g_r, models.inertia, settings, gain0=gain0, stability_models=checks,
                       variants=[(m.g_r, m.inertia) for m in variants], **kwargs)
+
+
+def stored_design(source: str | int = "auto", results_dir: str = "data/results", h_fallback: float = 0.02139) -> tuple[str, float, NDArray]:
+    """A stored design: ``(source, h [m], gain (4, 8))``.
+
+    ``source``: ``"07"`` (notebook 07's co-design optimum), ``"06"`` (notebook 06's design at ``h_fallback`` [m]) or
+    ``"auto"`` (07's if stored, else 06's). 6 and 7 are accepted too (papermill's ``-p`` turns ``"06"`` into 6).
+
+    Raises
+    ------
+    ValueError
+        For another ``source``, or if notebook 06 stored no design at ``h_fallback``.
+    FileNotFoundError
+        If the results file of the notebook asked for is missing.
+    """
+    name = str(source).strip().lower()
+    name = {"6": "06", "7": "07"}.get(name, name)
+    if name not in ("auto", "06", "07"):
+        raise ValueError(f"design_source must be 'auto', '06' or '07', got {source!r}")
+    if name in ("auto", "07"):
+        try:
+            best = results.load_results("07_pso_codesign", results_dir)["results"]["optimum"]
+            return "07", float(best["h"]), np.array(best["gain"], dtype=float)
+        except (FileNotFoundError, KeyError):
+            if name == "07":
+                raise
+    stored = results.load_results("06_robust_synthesis", results_dir)["results"]["designs"]
+    key = f"{100 * h_fallback:.3f}"
+    if key not in stored:
+        raise ValueError(f"notebook 06 stored no design at h = {h_fallback} m (it has {sorted(stored)}): rerun it with this h")
+    return "06", h_fallback, np.array(stored[key]["gain"], dtype=float)

@@ -46,8 +46,7 @@ def test_sweep_same_bounds_in_order_on_dask_workers(models):
     try:
         there = robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST, client=client, **kw)
     finally:
-        client.close()
-        client.cluster.close()
+        codesign.close_client(client)
     for a, b in zip(here, there):
         for group in ("rpe", "effort"):
             assert a[group].theta_deg == b[group].theta_deg
@@ -59,7 +58,6 @@ def test_sweep_same_bounds_in_order_on_dask_workers(models):
 def test_sweep_rejects_bad_angles(models, thetas):
     with pytest.raises(ValueError, match="thetas"):
         robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST)
-
 
 
 def _fake_bounds(calls: list, fail: dict):
