@@ -267,8 +267,8 @@ def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", retr
         cvxpy SDP solver (``"CLARABEL"`` or ``"SCS"``).
     retry : bool
         If the solve fails or its certificate does not hold, solve again with Clarabel's static regularisation
-        raised to 1e-7, then with SCS (measured: Clarabel fails now and then on these near-singular data, on one
-        call and not on the next with the same data, while the bound is finite and tight).
+        raised to 1e-7, then with SCS (Clarabel fails now and then on these near-singular data while the bound is
+        finite and tight). Every solve starts from scratch: the bound of an ``m`` does not depend on earlier calls.
     **solver_opts
         Passed to the solver; for Clarabel the tolerances default to 1e-7 (the bound is re-certified anyway).
 
@@ -306,7 +306,10 @@ def _wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", **s
         opts = {"tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7, "tol_feas": 1e-7} if solver.upper() == "CLARABEL" else {}
         with warnings.catch_warnings():  # "Solution may be inaccurate": reported in the status
             warnings.filterwarnings("ignore", message="Solution may be inaccurate")
-            prob.solve(solver=solver, **(opts | solver_opts))
+            # warm_start=False: the problem is cached (_sdp) and cvxpy would otherwise re-solve it from the previous
+            # solve, so that a bound would depend on what was solved before it in the process (measured: 1.4e-5
+            # relative between a fresh Dask worker and a used process, and Clarabel failing after some predecessors)
+            prob.solve(solver=solver, **({"warm_start": False} | opts | solver_opts))
     except cp.error.SolverError as exc:
         return UpperBound(np.inf, nan, nan, f"solver_error: {exc}", np.nan)
     if prob.status not in ("optimal", "optimal_inaccurate") or y.value is None:

@@ -216,10 +216,9 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     """:func:`bounds_at_angle` at each panel angle of ``thetas`` [rad], in parallel on a Dask client if given.
 
     The angles are independent and each is computed in one thread (one BLAS thread) from its own seed, so the
-    results come in the order of ``thetas`` and do not depend on the number of workers (or none: this process): the
-    lower bounds are the same to the last bit, the upper bounds to about 1e-6 relative (notebook 08's sweep: 3.6e-7 to
-    2.1e-6 in three runs of ``benchmarks/mu_sweep.py``; the SDP solve is not bitwise repeatable from one process to
-    another, and each bound is certified from its own scalings). A worker that dies is retried by Dask (twice).
+    results come in the order of ``thetas`` and do not depend on the number of workers (or none: this process): both
+    bounds are the same to the last bit (each SDP is solved from scratch, :func:`lib.mu.wc_gain_upper`). A worker that
+    dies is retried by Dask (twice).
 
     Parameters
     ----------
