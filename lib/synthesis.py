@@ -575,6 +575,9 @@ class SynthesisResult:
         With ``fast``: evaluations at which the fast path's pole checks failed and the dense eig was used.
     searches : int
         Rounds that ended with a worst-case search over the box (on the model and on every variant).
+    restarts : int
+        Attempts that failed and were started again from their final gain (:func:`lib.design.robust_design`,
+        ``restarts``); the counters above add up every attempt.
     """
 
     gain: NDArray[np.float64]
@@ -590,6 +593,7 @@ class SynthesisResult:
     history: list[dict] = field(default_factory=list)
     fallbacks: int = 0
     searches: int = 0
+    restarts: int = 0
 
 
 @dataclass

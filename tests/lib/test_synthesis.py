@@ -329,6 +329,45 @@ def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
     assert seen["stability_models"] == []
 
 
+
+def _result(gain, success, message, n=1):
+    return synthesis.SynthesisResult(np.full((4, 8), gain), 0.02, 0.98 if success else 1.2, success, message, [], None,
+                                     10 * n, 1.0 * n, 100 * n, [dict(phase="optimise", n=n)], n, 2 * n)
+
+
+def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypatch):
+    """A failed attempt is started again from its final gain with the caller's starting scenario set, the counters add
+    up, the message keeps the first failure; a success is not restarted, nor a failure to stabilise; restarts=0 (the
+    default) returns the failure flagged."""
+    from lib import design
+
+    calls = []
+    outcomes = []
+
+    def fake(g_r, inertia, settings, gain0=None, **kw):
+        calls.append((None if gain0 is None else float(np.asarray(gain0)[0, 0]), kw.get("scenarios")))
+        return outcomes[len(calls) - 1]
+
+    monkeypatch.setattr(design, "synthesize", fake)
+    base = design.DesignModels(0.02, "G_r", "G_r_low", "check", np.eye(3), 60.0, 0.0)
+    stop = "stopped after 6 rounds with the worst-case search still finding worse scenarios"
+    outcomes[:] = [_result(-3.0, False, stop), _result(-4.0, False, stop, 2), _result(-5.0, True, "converged", 3)]
+    res = design.robust_design(base, ST, gain0=-np.ones((4, 8)), spillover=False, restarts=2, scenarios=["s"])
+    assert calls == [(-1.0, ["s"]), (-3.0, ["s"]), (-4.0, ["s"])]
+    assert res.success and res.restarts == 2 and res.gain[0, 0] == -5.0
+    assert (res.iterations, res.time_s, res.evaluations, res.fallbacks, res.searches) == (60, 6.0, 600, 6, 12)
+    assert [h["n"] for h in res.history] == [1, 2, 3]
+    assert res.message.startswith("converged") and stop in res.message
+    for restarts, first, n_calls in ((0, _result(-3.0, False, stop), 1), (3, _result(-3.0, True, "converged"), 1),
+                                     (3, _result(-1.0, False, "could not stabilise every scenario from the starting gain"), 1)):
+        calls.clear()
+        outcomes[:] = [first, _result(-9.0, True, "converged")]
+        res = design.robust_design(base, ST, spillover=False, restarts=restarts)
+        assert len(calls) == n_calls and res is first and res.restarts == 0
+    for bad in (-1, 1.5, True, "2"):
+        with pytest.raises(ValueError, match="restarts"):
+            design.robust_design(base, ST, spillover=False, restarts=bad)
+
 def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     """Stand-in models and searches: shift 0 always checked, shifts leaving the design range skipped, a row per gain
     and shift, valid = no unstable box point, Z_c < gamma_u and (with spillover) a stable spillover loop."""
