@@ -234,7 +234,7 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
         0: a failure is returned, flagged, as the co-design's stored runs had it). Not after a failure to stabilise
         from the starting gain (the gain has not moved). Measured (``benchmarks/robust_synthesis.py``, Intel machine):
         the truss-tolerant fast-path design at 2.1 cm stopped after 6 rounds with Z_c 1.234 (each worst-case search
-        found a worse effort scenario than the set), and one restart from its gain converged (Z_c 0.982, 157 s more).
+        found a worse effort scenario than the set), and one restart from its gain converged (Z_c 0.982; 470 s for both attempts).
         The result is valid on its own checks (the last attempt's scenario set, search and final evaluation).
     **kwargs
         Passed to :func:`lib.synthesis.synthesize`.
@@ -244,6 +244,7 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
     settings = settings or LoopSettings.from_parameters()
     checks = [plant_at(m.g_check, Scenario(), m.inertia, settings) for m in (models, *variants)] if spillover else []
     kwargs.setdefault("omega_check", models.omega_max)
+
     def run(start: ArrayLike | None) -> SynthesisResult:
         return synthesize(models.g_r, models.inertia, settings, gain0=start, stability_models=checks,
                           variants=[(m.g_r, m.inertia) for m in variants], **kwargs)
