@@ -274,7 +274,6 @@ def test_branch_and_bound_closes_the_gap_of_the_whole_box_bound(seed):
     assert stopped.solves == 1 and stopped.status == "converged"
 
 
-
 def test_upper_bound_independent_of_earlier_solves():
     """The bound of one M is the same to the last bit whatever was solved before it in the process: the LMI is
     solved from scratch every time, so that the bounds of a sweep do not depend on the order of its frequencies or

@@ -329,7 +329,6 @@ def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
     assert seen["stability_models"] == []
 
 
-
 def _result(gain, success, message, n=1):
     return synthesis.SynthesisResult(np.full((4, 8), gain), 0.02, 0.98 if success else 1.2, success, message, [], None,
                                      10 * n, 1.0 * n, 100 * n, [dict(phase="optimise", n=n)], n, 2 * n)
