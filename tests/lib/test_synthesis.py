@@ -363,9 +363,12 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
         outcomes[:] = [first, _result(-9.0, True, "converged")]
         res = design.robust_design(base, ST, spillover=False, restarts=restarts)
         assert len(calls) == n_calls and res is first and res.restarts == 0
-    for bad in (-1, 1.5, True, "2"):
-        with pytest.raises(ValueError, match="restarts"):
+    with pytest.raises(ValueError, match="restarts must be an integer in \\[0, inf\\)"):
+        design.robust_design(base, ST, spillover=False, restarts=-1)
+    for bad in (1.5, True, "2"):  # wrong types: TypeError, as every option of the synthesis
+        with pytest.raises(TypeError, match="restarts must be an integer"):
             design.robust_design(base, ST, spillover=False, restarts=bad)
+
 
 def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     """Stand-in models and searches: shift 0 always checked, shifts leaving the design range skipped, a row per gain
