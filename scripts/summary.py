@@ -1,0 +1,88 @@
+"""Print the reproduction summary of README.md (a Markdown table) from the stored results JSON.
+
+Every number of "This toolkit" is read from ``data/results/*.json`` (written by the notebooks) or
+``benchmarks/results/codesign_fast.json``; the paper's numbers come from the same files where the notebooks stored
+them, else from the constants below (with the paper's section). ``tests/test_readme_summary.py`` fails when the
+README's table is not this script's output, so the table cannot drift from the stored results.
+
+Usage: ``python scripts/summary.py [--root DIR]`` (default: the project folder).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+# The paper's numbers that no results file stores (section "System Reduction" and "Co-design optimization results")
+PAPER_ORDER_G, PAPER_SLOW_POLES, PAPER_ORDER_G_R = 1324, 540, 178
+PAPER_CODESIGN_TIME = "11 h 16 min on 24 cores"
+
+
+def _load(root: Path, name: str) -> dict:
+    path = root / "data" / "results" / f"{name}.json"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path} is missing: run notebook {name[:2]} first (bash scripts/run_notebooks.sh)")
+    return json.loads(path.read_text())["results"]
+
+
+def rows(root: Path) -> list[tuple[str, str, str, str]]:
+    """``(quantity, paper, this toolkit, notebook)`` rows of the summary."""
+    r3, r4, r5 = _load(root, "03_cube_vs_nastran"), _load(root, "04_t_truss_spacecraft"), _load(root, "05_lft_reduction")
+    r6, r7, r8 = _load(root, "06_robust_synthesis"), _load(root, "07_pso_codesign"), _load(root, "08_worst_case_mu")
+    err = r3["mean_relative_error_vs_nastran"]
+    occ, occ_p = r5["occurrences"], r5["paper_occurrences"]
+    names = ("M_SC", "Iyy_SC", "omega1_SP", "tau", "h")
+    orders = {f"{row['h_cm']:g}": row["order_G_r"] for row in r5["reduction"]}
+    d6, p6 = r6["designs"]["2.139"], r6["paper"]
+    opt, p7 = r7["optimum"], r7["paper"]
+    table, paper = r8["table"], r8["paper"]
+    fast = root / "benchmarks" / "results" / "codesign_fast.json"
+    fast_min = json.loads(fast.read_text())["wall_time_min"] if fast.is_file() else None
+
+    def mu(group: str, src: dict, suffix: str = "") -> str:
+        t = src[group + suffix]
+        return (f"{t['sup upper']:.4f} / {t['inf lower (max over angles)']:.4f}, {t['critical freq [rad/s]']:.1f} rad/s, "
+                f"theta {t['critical theta [deg]']:.1f} deg")
+
+    return [
+        ("Cube `C^{CFFF-FFFF}`, first 10 frequencies: mean error against Nastran", f"{100 * err['paper_sdt']:.2f} % (SDT)",
+         f"{100 * err['this_sdt_settings']:.2f} % (SDT settings); {100 * err['this_exact_J']:.2f} % with the true torsion constant", "03"),
+        ("Open-loop model G: order / spurious slow poles removed", f"{PAPER_ORDER_G} / {PAPER_SLOW_POLES}",
+         f"{r4['orders']['G']} / {r4['near_zero_poles']}", "04"),
+        ("Reduced model G_r: order", f"{PAPER_ORDER_G_R}",
+         " / ".join(str(n) for n in orders.values()) + " at h = " + " / ".join(orders) + " cm", "05"),
+        ("Delta occurrences " + ", ".join(names), ", ".join(str(occ_p[n]) for n in names), ", ".join(str(occ[n]) for n in names), "05"),
+        ("Truss mass m0 at h = 3 cm (from the DC gain)", f"{p7['m0_kg']:.2f} kg", f"{r7['m0_from_dc_kg']:.3f} kg", "07"),
+        (f"Truss mass at h = {p7['h_cm']} cm", f"{p7['mass_kg']:.2f} kg", f"{d6['truss_mass_kg']:.2f} kg", "06"),
+        (f"Robust design at h = {p6['h_cm']} cm: worst-case J_c / Z_c", f"{p6['J_c']} / {p6['Z_c_mu_upper']:.2f}",
+         f"{d6['J_c']:.4f} / {d6['Z_c']:.3f}", "06"),
+        ("Co-design optimum: h / truss mass / change from m0 / J_c",
+         f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
+         f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / {opt['J_c']:.3f}", "07"),
+        ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %)", "-",
+         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at {100 * r7['grid_minimum']['h']:.2f} cm)", "07"),
+        ("Co-design 24 x 20: wall time", PAPER_CODESIGN_TIME,
+         f"{r7['run_time_s'] / 60:.1f} min (stored run)" + (f", {fast_min:.1f} min by the fast path" if fast_min else "") + " on 2 cores", "07"),
+        ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
+         mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
+        ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
+         mu("p~ -> W~u", table), "08"),
+    ]
+
+
+def markdown(root: Path) -> str:
+    """The summary table as Markdown (no trailing newline)."""
+    lines = ["| quantity | paper | this toolkit | notebook |", "|---|---|---|---|"]
+    lines += [f"| {q} | {p} | {t} | {n} |" for q, p, t, n in rows(root)]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--root", type=Path, default=Path(__file__).resolve().parents[1], help="project folder")
+    print(markdown(parser.parse_args().root))
+
+
+if __name__ == "__main__":
+    main()
