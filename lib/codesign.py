@@ -265,7 +265,16 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         One per h, in the order of ``hs``.
     time_s : float
         Wall time spent evaluating, summed over the calls that did it [s].
+
+    Raises
+    ------
+    ValueError
+        If ``hs`` is empty or holds a section side that is not a finite positive length [m], or ``chunk`` < 1.
     """
+    h = np.asarray(hs, dtype=float)
+    if h.ndim != 1 or not h.size or not np.all(np.isfinite(h) & (h > 0)):
+        raise ValueError(f"hs must be a non-empty list of section sides in metres, all finite and > 0, got {hs!r}")
+    synthesis._check_option("chunk", chunk, 1, integer=True)
     stored, key = read_keyed(cache, key)
     fresh = stored is None or len(stored.get("records", [])) != len(hs)
     records: list[dict | None] = [None] * len(hs) if fresh else stored["records"]
@@ -281,6 +290,16 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         if cache is not None:
             write_json(cache, {"key": key, "records": records, "time_s": time_s})
     return records, time_s
+
+
+def _check_h_range(h_range: object) -> None:
+    """Raise a ValueError (TypeError for a non-sequence) unless ``h_range`` is ``(low, high)`` in metres with
+    ``0 < low < high``, both finite."""
+    if isinstance(h_range, (str, bytes)) or not hasattr(h_range, "__len__"):
+        raise TypeError(f"h_range must be a pair (low, high) of section sides in metres, got {h_range!r}")
+    ok = len(h_range) == 2 and all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in h_range)
+    if not (ok and np.all(np.isfinite(h_range)) and 0.0 < h_range[0] < h_range[1]):
+        raise ValueError(f"h_range must be (low, high) in metres with 0 < low < high (the paper's (0.015, 0.03)), got {h_range!r}")
 
 
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
@@ -319,6 +338,9 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     """
     from . import pso
 
+    synthesis._check_option("n_particles", n_particles, 2, integer=True)
+    synthesis._check_option("n_iterations", n_iterations, 1, integer=True)
+    _check_h_range(h_range)
     if checkpoint is not None and Path(checkpoint).exists():
         extra = pso.load_state(checkpoint).extra
         found = extra.get("algorithm")

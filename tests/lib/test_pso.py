@@ -69,6 +69,41 @@ def test_same_result_with_one_and_two_dask_workers():
     assert results[0].history == results[1].history
 
 
+def test_bad_run_settings_raise_before_any_evaluation():
+    """Swarm size, iterations, seed and stop point are checked up front (TypeError for a wrong type, ValueError out
+    of range, each naming the parameter), before anything is evaluated or written."""
+    calls = []
+
+    def evaluate(x, state):
+        calls.append(x)
+        return quadratic(x, state)
+
+    base = dict(n=4, lower=[0.0], upper=[1.0], iterations=3, seed=0)
+    for name, bad, error in (("iterations", 0, ValueError), ("iterations", -1, ValueError), ("iterations", 2.0, TypeError),
+                             ("seed", -1, ValueError), ("seed", "x", TypeError), ("n", 1, ValueError), ("n", 2.5, TypeError),
+                             ("stop_after", -1, ValueError), ("stop_after", 1.5, TypeError)):
+        with pytest.raises(error, match=name):
+            pso.run(evaluate, **{**base, name: bad})
+    assert not calls
+
+
+def test_codesign_checks_its_design_range_before_starting(tmp_path):
+    """h_range must be (low, high) in metres with 0 < low < high: a negative or reversed range is refused before any
+    model is built and before the checkpoint is written."""
+    ck = tmp_path / "ck.json"
+    for bad in ((-0.01, 0.03), (0.0, 0.03), (0.03, 0.015), (0.015, float("nan")), (0.015,), "0.015-0.03"):
+        with pytest.raises((ValueError, TypeError), match="h_range"):
+            codesign.run_codesign(n_particles=2, n_iterations=1, h_range=bad, checkpoint=ck, progress=False)
+    with pytest.raises(ValueError, match="n_particles"):
+        codesign.run_codesign(n_particles=1, n_iterations=1, checkpoint=ck, progress=False)
+    with pytest.raises(ValueError, match="n_iterations"):
+        codesign.run_codesign(n_particles=2, n_iterations=0, checkpoint=ck, progress=False)
+    for bad in ([], [0.02, -0.01], [0.02, float("inf")]):  # the dense grid of notebook 07
+        with pytest.raises(ValueError, match="hs must be"):
+            codesign.evaluate_grid(bad, cache=ck, progress=False)
+    assert not ck.exists()
+
+
 def test_objective_and_failures():
     m0 = codesign.M0_PAPER
     assert codesign.objective_value(93.55, 0.9011, m0) == pytest.approx(93.55 / m0 + 0.0011)
