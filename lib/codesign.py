@@ -292,14 +292,19 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     return records, time_s
 
 
-def _check_h_range(h_range: object) -> None:
+def _check_h_range(h_range: object, params: dict | None = None) -> None:
     """Raise a ValueError (TypeError for a non-sequence) unless ``h_range`` is ``(low, high)`` in metres with
-    ``0 < low < high``, both finite."""
+    ``0 < low < high``, both finite, inside the design range of the spacecraft parameters (``truss.h_range``), where
+    :func:`lib.design.models_at` builds models (outside it every particle would fail)."""
     if isinstance(h_range, (str, bytes)) or not hasattr(h_range, "__len__"):
         raise TypeError(f"h_range must be a pair (low, high) of section sides in metres, got {h_range!r}")
     ok = len(h_range) == 2 and all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in h_range)
     if not (ok and np.all(np.isfinite(h_range)) and 0.0 < h_range[0] < h_range[1]):
         raise ValueError(f"h_range must be (low, high) in metres with 0 < low < high (the paper's (0.015, 0.03)), got {h_range!r}")
+    low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    if h_range[0] < low - 1e-12 or h_range[1] > high + 1e-12:
+        raise ValueError(f"h_range {tuple(h_range)} m leaves the design range [{low}, {high}] m of the spacecraft parameters: "
+                         "widen truss.h_range in the parameters (data/spacecraft/parameters.json, or the params passed)")
 
 
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
@@ -340,7 +345,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
 
     synthesis._check_option("n_particles", n_particles, 2, integer=True)
     synthesis._check_option("n_iterations", n_iterations, 1, integer=True)
-    _check_h_range(h_range)
+    _check_h_range(h_range, params)
     if checkpoint is not None and Path(checkpoint).exists():
         extra = pso.load_state(checkpoint).extra
         found = extra.get("algorithm")

@@ -88,12 +88,14 @@ def test_bad_run_settings_raise_before_any_evaluation():
 
 
 def test_codesign_checks_its_design_range_before_starting(tmp_path):
-    """h_range must be (low, high) in metres with 0 < low < high: a negative or reversed range is refused before any
-    model is built and before the checkpoint is written."""
+    """h_range must be (low, high) in metres with 0 < low < high, inside the parameters' design range: a negative,
+    reversed or too wide range is refused before any model is built and before the checkpoint is written."""
     ck = tmp_path / "ck.json"
     for bad in ((-0.01, 0.03), (0.0, 0.03), (0.03, 0.015), (0.015, float("nan")), (0.015,), "0.015-0.03"):
         with pytest.raises((ValueError, TypeError), match="h_range"):
             codesign.run_codesign(n_particles=2, n_iterations=1, h_range=bad, checkpoint=ck, progress=False)
+    with pytest.raises(ValueError, match="leaves the design range"):  # models_at would refuse every particle
+        codesign.run_codesign(n_particles=2, n_iterations=1, h_range=(0.01, 0.03), checkpoint=ck, progress=False)
     with pytest.raises(ValueError, match="n_particles"):
         codesign.run_codesign(n_particles=1, n_iterations=1, checkpoint=ck, progress=False)
     with pytest.raises(ValueError, match="n_iterations"):
