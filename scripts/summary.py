@@ -37,6 +37,8 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
     d6, p6 = r6["designs"]["2.139"], r6["paper"]
     opt, p7 = r7["optimum"], r7["paper"]
     table, paper = r8["table"], r8["paper"]
+    preset = r7["preset"]
+    t30 = next(r for r in r6["sensitivity"] if r["variant"] == "t_delta_30ms")
     fast = root / "benchmarks" / "results" / "codesign_fast.json"
     fast_min = json.loads(fast.read_text())["wall_time_min"] if fast.is_file() else None
 
@@ -55,11 +57,17 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
         ("Delta occurrences " + ", ".join(names), ", ".join(str(occ_p[n]) for n in names), ", ".join(str(occ[n]) for n in names), "05"),
         ("Truss mass m0 at h = 3 cm (from the DC gain)", f"{p7['m0_kg']:.2f} kg", f"{r7['m0_from_dc_kg']:.3f} kg", "07"),
         (f"Truss mass at h = {p7['h_cm']} cm", f"{p7['mass_kg']:.2f} kg", f"{d6['truss_mass_kg']:.2f} kg", "06"),
-        (f"Robust design at h = {p6['h_cm']} cm: worst-case J_c / Z_c", f"{p6['J_c']} / {p6['Z_c_mu_upper']:.2f}",
-         f"{d6['J_c']:.4f} / {d6['Z_c']:.3f}", "06"),
+        (f"Robust design at h = {p6['h_cm']} cm: worst-case J_c / Z_c / critical frequency",
+         f"{p6['J_c']} / {p6['Z_c_mu_upper']:.2f} / {p6['critical_omega_rad_s']:.1f} rad/s",
+         f"{d6['J_c']:.4f} / {d6['Z_c']:.3f} / {d6['worst_rpe']['rpe_omega_rad_s']:.1f} rad/s", "06"),
+        (f"The same with the preset closest to the paper (t_Delta = {1e3 * preset['settings']['t_delta']:g} ms, "
+         "`data/spacecraft/presets/paper_match.json`)", "as above",
+         f"{t30['J_c']:.4f} / {t30['Z_c']:.3f} / {t30['critical_omega']:.1f} rad/s", "06"),
         ("Co-design optimum: h / truss mass / change from m0 / J_c",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
          f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / {opt['J_c']:.3f}", "07"),
+        (f"Co-design with that preset ({preset['n_particles']} x {preset['n_iterations']} swarm): h / truss mass / J_c", "-",
+         f"{100 * preset['best']['h']:.3f} cm / {preset['best']['mass']:.2f} kg / {preset['best']['J_c']:.3f}", "07"),
         ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %)", "-",
          f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at {100 * r7['grid_minimum']['h']:.2f} cm)", "07"),
         ("Co-design 24 x 20: wall time", PAPER_CODESIGN_TIME,
