@@ -65,13 +65,16 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          f"{t30['J_c']:.4f} / {t30['Z_c']:.3f} / {t30['critical_omega']:.1f} rad/s", "06"),
         ("Co-design optimum: h / truss mass / change from m0 / J_c",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
-         f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / {opt['J_c']:.3f}", "07"),
+         f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / "
+         f"{opt['J_c']:.3f}", "07"),
         (f"Co-design with that preset ({preset['n_particles']} x {preset['n_iterations']} swarm): h / truss mass / J_c", "-",
          f"{100 * preset['best']['h']:.3f} cm / {preset['best']['mass']:.2f} kg / {preset['best']['J_c']:.3f}", "07"),
         ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %)", "-",
-         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at {100 * r7['grid_minimum']['h']:.2f} cm)", "07"),
+         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at "
+         f"{100 * r7['grid_minimum']['h']:.2f} cm)", "07"),
         ("Co-design 24 x 20: wall time", PAPER_CODESIGN_TIME,
-         f"{r7['run_time_s'] / 60:.1f} min (stored run)" + (f", {fast_min:.1f} min by the fast path" if fast_min else "") + " on 2 cores", "07"),
+         f"{r7['run_time_s'] / 60:.1f} min (stored run)" + (f", {fast_min:.1f} min by the fast path" if fast_min else "")
+         + " on 2 cores", "07"),
         ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
