@@ -8,8 +8,11 @@ stored by notebook 07 (valid particles of the swarm drawn with a fixed seed, and
 3 cm), the grid's worst case alone (``refine=0``) against the full search: value per group, relative increase, time
 and plant evaluations, on one thread, at the search damping a synthesis uses.
 
+With ``--budgets 10 15 20`` it also runs the search with those Nelder-Mead budgets (``max_evals``; the synthesis uses
+30) and reports how far each falls below the full search per group, and what it saves: the data for a cheaper search.
+
 Prints a line per design and saves benchmarks/results/search_refinement.json.
-Run: python benchmarks/search_refinement.py [--swarm-designs 6] [--seed 0]
+Run: python benchmarks/search_refinement.py [--swarm-designs 6] [--seed 0] [--budgets 10 15 20]
 """
 
 from __future__ import annotations
@@ -50,6 +53,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--swarm-designs", type=int, default=6)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--budgets", type=int, nargs="*", default=[],
+                        help="Nelder-Mead budgets (max_evals) to compare with the synthesis's 30")
     args = parser.parse_args()
     settings = LoopSettings.from_parameters()
     rows = []
@@ -67,15 +72,33 @@ def main() -> None:
                 row[group] = dict(grid=grid.value[group], full=full.value[group],
                                   increase_pct=100 * (full.value[group] / grid.value[group] - 1),
                                   theta_deg=float(np.rad2deg(full.scenario[group].theta)), omega=full.omega[group])
+            row["budgets"] = {}
+            for b in args.budgets:
+                t3 = time.perf_counter()
+                cut = synthesis.worst_case(m.g_r, rec["gain"], m.inertia, settings, max_evals=b, workers=1, min_damping=SEARCH_DAMPING)
+                row["budgets"][str(b)] = dict(s=time.perf_counter() - t3, evaluations=cut.evaluations,
+                                              **{f"{g}_below_full_pct": 100 * (1 - cut.value[g] / full.value[g]) for g in synthesis.GROUPS})
             rows.append(row)
             print(f"h {100 * rec['h']:.3f} cm ({rec['source']}): grid {row['grid_s']:.1f} s, {grid.evaluations} evals; full "
                   f"{row['full_s']:.1f} s, {full.evaluations} evals; refinement adds J +{row['rpe']['increase_pct']:.2f} %, "
-                  f"Z +{row['effort']['increase_pct']:.2f} %", flush=True)
+                  f"Z +{row['effort']['increase_pct']:.2f} %" + "".join(
+                      f"; budget {b}: {r['s']:.1f} s, J -{r['rpe_below_full_pct']:.2f} %, Z -{r['effort_below_full_pct']:.2f} %"
+                      for b, r in row["budgets"].items()), flush=True)
     share = sum(r["full_s"] - r["grid_s"] for r in rows) / sum(r["full_s"] for r in rows)
     print(f"refinement: {100 * share:.0f} % of the search time; largest increase J "
           f"{max(r['rpe']['increase_pct'] for r in rows):.2f} %, Z {max(r['effort']['increase_pct'] for r in rows):.2f} %")
-    out = dict(machine=machine_info(),
-               synthesis_algorithm=synthesis.ALGORITHM, threads=1, refinement_time_share=share, designs=rows)
+    budgets = {}
+    for b in map(str, args.budgets):
+        budgets[b] = dict(time_vs_full=sum(r["budgets"][b]["s"] for r in rows) / sum(r["full_s"] for r in rows),
+                          **{f"largest_{g}_below_full_pct": max(r["budgets"][b][f"{g}_below_full_pct"] for r in rows)
+                             for g in synthesis.GROUPS},
+                          designs_within_cover_tol=sum(all(r["budgets"][b][f"{g}_below_full_pct"] <= 100 * _DEFAULTS["cover_tol"]
+                                                           for g in synthesis.GROUPS) for r in rows))
+        print(f"budget {b}: {100 * budgets[b]['time_vs_full']:.0f} % of the full search's time; largest shortfall J "
+              f"{budgets[b]['largest_rpe_below_full_pct']:.2f} %, Z {budgets[b]['largest_effort_below_full_pct']:.2f} %; "
+              f"{budgets[b]['designs_within_cover_tol']} of {len(rows)} designs within the coverage tolerance of both groups")
+    out = dict(machine=machine_info(), synthesis_algorithm=synthesis.ALGORITHM, threads=1, refinement_time_share=share,
+               budgets=budgets, designs=rows)
     path = Path(__file__).parent / "results" / "search_refinement.json"
     path.write_text(json.dumps(out, indent=2) + "\n")
     print(f"saved {path}")
