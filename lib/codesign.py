@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import spacecraft, synthesis
+from .checks import check_option
 from .closedloop import LoopSettings
 from .results import read_keyed, write_json
 from .synthesis import Scenario
@@ -274,7 +275,7 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     h = np.asarray(hs, dtype=float)
     if h.ndim != 1 or not h.size or not np.all(np.isfinite(h) & (h > 0)):
         raise ValueError(f"hs must be a non-empty list of section sides in metres, all finite and > 0, got {hs!r}")
-    synthesis._check_option("chunk", chunk, 1, integer=True)
+    check_option("chunk", chunk, 1, integer=True)
     stored, key = read_keyed(cache, key)
     fresh = stored is None or len(stored.get("records", [])) != len(hs)
     records: list[dict | None] = [None] * len(hs) if fresh else stored["records"]
@@ -343,8 +344,8 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     """
     from . import pso
 
-    synthesis._check_option("n_particles", n_particles, 2, integer=True)
-    synthesis._check_option("n_iterations", n_iterations, 1, integer=True)
+    check_option("n_particles", n_particles, 2, integer=True)
+    check_option("n_iterations", n_iterations, 1, integer=True)
     _check_h_range(h_range, params)
     if checkpoint is not None and Path(checkpoint).exists():
         extra = pso.load_state(checkpoint).extra

@@ -25,7 +25,8 @@ from numpy.typing import ArrayLike, NDArray
 from . import reduction, results, spacecraft
 from .closedloop import LoopSettings
 from .lft import LFT
-from .synthesis import Scenario, SynthesisResult, WorstCase, _check_option, plant_at, synthesize, worst_case
+from .checks import check_option
+from .synthesis import Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
 __all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
            "truss_variants"]
@@ -239,7 +240,7 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
     **kwargs
         Passed to :func:`lib.synthesis.synthesize`.
     """
-    _check_option("restarts", restarts, 0, integer=True)  # TypeError for a non-integer, ValueError below 0
+    check_option("restarts", restarts, 0, integer=True)  # TypeError for a non-integer, ValueError below 0
     settings = settings or LoopSettings.from_parameters()
     checks = [plant_at(m.g_check, Scenario(), m.inertia, settings) for m in (models, *variants)] if spillover else []
     kwargs.setdefault("omega_check", models.omega_max)

@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from .checks import check_option
+
 __all__ = ["SwarmState", "init_swarm", "step_positions", "update_bests", "save_state", "load_state", "run"]
 
 
@@ -87,18 +89,10 @@ def _bounds(lower: Sequence[float], upper: Sequence[float]) -> tuple[NDArray, ND
     return lo, hi
 
 
-def _check_integer(name: str, value: object, low: int) -> None:
-    """Raise a TypeError naming ``name`` if ``value`` is not an integer (a bool is not), a ValueError if below ``low``."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
-    if value < low:
-        raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
-
-
 def init_swarm(n: int, lower: Sequence[float], upper: Sequence[float], seed: int) -> SwarmState:
     """Initial swarm of ``n`` particles (not evaluated yet)."""
-    _check_integer("n (swarm size)", n, 2)
-    _check_integer("seed", seed, 0)
+    check_option("n (swarm size)", n, 2, integer=True)
+    check_option("seed", seed, 0, integer=True)
     lo, hi = _bounds(lower, upper)
     rng = np.random.default_rng(seed)
     x = lo + (hi - lo) * rng.random((n, lo.size))
@@ -213,11 +207,11 @@ def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Se
         For a non-integer or out-of-range ``n`` (>= 2), ``iterations`` (>= 1), ``seed`` (>= 0) or ``stop_after``
         (>= 0), or bounds that are not finite with ``lower < upper``, before anything is evaluated.
     """
-    _check_integer("n (swarm size)", n, 2)
-    _check_integer("iterations", iterations, 1)
-    _check_integer("seed", seed, 0)
+    check_option("n (swarm size)", n, 2, integer=True)
+    check_option("iterations", iterations, 1, integer=True)
+    check_option("seed", seed, 0, integer=True)
     if stop_after is not None:
-        _check_integer("stop_after", stop_after, 0)
+        check_option("stop_after", stop_after, 0, integer=True)
     _bounds(lower, upper)
     if checkpoint is not None and Path(checkpoint).exists():
         state = load_state(checkpoint)

@@ -40,6 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog, minimize
 from threadpoolctl import threadpool_limits
 
+from .checks import check_option as _check_option
 from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from .lft import LFT
@@ -113,21 +114,6 @@ def default_scenarios(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0, 180
         for c in corners:
             out.append(Scenario(*c, float(np.deg2rad(th))))
     return out
-
-
-def _check_option(name: str, value: object, low: float, high: float = np.inf, integer: bool = False,
-                  open_low: bool = False, open_high: bool = False) -> None:
-    """Raise a ValueError (TypeError for a non-number) naming an option of the synthesis or the search and its range."""
-    kind = "an integer" if integer else "a number"
-    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
-    if isinstance(value, bool) or not ok_type:
-        raise TypeError(f"{name} must be {kind}, got {type(value).__name__}")
-    v = float(value)
-    inside = (np.isfinite(v) or high == np.inf and v == np.inf) and (v > low if open_low else v >= low) and (
-        v < high if open_high else v <= high)
-    if not inside:
-        lo_b, hi_b = "(" if open_low else "[", ")" if open_high or high == np.inf else "]"
-        raise ValueError(f"{name} must be {kind} in {lo_b}{low:g}, {high:g}{hi_b}, got {value!r}")
 
 
 def _n_workers(n: int | None) -> int:

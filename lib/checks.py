@@ -1,0 +1,23 @@
+"""Checks of scalar options shared by the modules (synthesis, design, co-design, swarm): one wording of the errors."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["check_option"]
+
+
+def check_option(name: str, value: object, low: float, high: float = np.inf, integer: bool = False,
+                 open_low: bool = False, open_high: bool = False) -> None:
+    """Raise a ValueError (TypeError for a non-number; an integer is required with ``integer``) naming an option and
+    its range ``[low, high]`` (``open_low``/``open_high``: that end excluded)."""
+    kind = "an integer" if integer else "a number"
+    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
+    if isinstance(value, bool) or not ok_type:
+        raise TypeError(f"{name} must be {kind}, got {type(value).__name__}")
+    v = float(value)
+    inside = (np.isfinite(v) or high == np.inf and v == np.inf) and (v > low if open_low else v >= low) and (
+        v < high if open_high else v <= high)
+    if not inside:
+        lo_b, hi_b = "(" if open_low else "[", ")" if open_high or high == np.inf else "]"
+        raise ValueError(f"{name} must be {kind} in {lo_b}{low:g}, {high:g}{hi_b}, got {value!r}")
