@@ -38,7 +38,7 @@ def test_matlab_adaptive_rules():
     assert state.inertia == 1.1 and state.neighbours == 6  # max(2, floor(0.25 * 24))
     pso.update_bests(state, np.arange(24.0))  # improvement from inf: c = 0 < 2 -> W doubled, clipped to 1.1
     assert state.inertia == 1.1 and state.neighbours == 6 and state.counter == 0
-    for k in range(7):  # no improvement: c grows, N grows by N_min up to n - 1
+    for _ in range(7):  # no improvement: c grows, N grows by N_min up to n - 1
         pso.update_bests(state, np.full(24, 100.0))
     assert state.counter == 7 and state.neighbours == 23
     pso.update_bests(state, np.r_[-1.0, np.full(23, 100.0)])  # improvement with c = 6 > 5: W halved

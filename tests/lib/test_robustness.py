@@ -81,7 +81,8 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
     monkeypatch.setattr(robustness, "bounds_at_angle", _fake_bounds(calls, fail))
     thetas, part = np.deg2rad([0.0, 45.0, 90.0]), tmp_path / "sweep.partial.json"
 
-    def run(gain=-np.ones((4, 8)), key=None):
+    def run(gain=None, key=None):
+        gain = -np.ones((4, 8)) if gain is None else gain
         return robustness.sweep(None, thetas, gain, np.eye(3), ST, partial=part, partial_key=key or {"h": 0.02}, n_log=10)
 
     with pytest.raises(ValueError, match="injected"):
