@@ -37,7 +37,8 @@ PENALTY = 10.0
 JC_LIMIT = 2.0
 # Stopping rule of the synthesis inside the co-design: less than 1 % decrease of J over 5 accepted steps (the
 # synthesis default is 0.2 %). J_c enters f^n through |0.9 - J_c| with J_c of a few 1e-2, so the looser rule moves
-# f^n by well under 1 % (measured in notebook 07) while it cuts the iterations several times.
+# f^n little: measured by benchmarks/robust_synthesis.py on a cold start at 2.5 cm, J_c 0.01871 with the default rule
+# and 0.01930 with this one (f^n 0.04 % apart), in 101 iterations instead of 145 (41.7 s instead of 55.6 s).
 SYNTHESIS_OPTIONS = {"tol": 1e-2}
 
 

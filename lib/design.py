@@ -5,7 +5,7 @@ Paper: "Co-design optimization architecture", Steps 1-3 for one particle: the re
 the robust structured synthesis of ``K_PMA`` (Step 3, :func:`lib.synthesis.synthesize`).
 
 One addition to the paper's recipe, measured in notebook 06: a gain tuned on ``G_r`` (modes below 500 rad/s)
-alone destabilises modes of ``G_r_low`` between 500 and 7000 rad/s (spillover of the non-collocated entries
+alone destabilises 33 modes of ``G_r_low`` between 504 and 17251 rad/s at 2.139 cm (spillover of the non-collocated entries
 of the 4x8 gain), and a gain kept merely stable on the nominal ``G_r_low`` leaves one of them with a damping
 ratio of 1e-10, which the uncertain parameters then destabilise. The nominal ``G_r_low`` closed loop is therefore
 a stability-only model of the synthesis (``spillover=True``) whose modes above the cut frequency of ``G_r`` must
