@@ -11,7 +11,7 @@ J_c, Z_c and success still from the dense final evaluation and searches); its ch
 checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in.
 
 Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--fast]
-                                   [--stop-after K]
+                                   [--stop-after K] [--json PATH]
      python benchmarks/codesign.py --report data/results/07_pso_checkpoint.json   # the timing of a run already made
                                                                                   # (e.g. notebook 07's main job)
 """
@@ -42,6 +42,8 @@ def main() -> None:
     parser.add_argument("--stop-after", type=int, default=None,
                         help="stop after this many iterations in all (resume later with the same checkpoint)")
     parser.add_argument("--report", default="", help="report the timing stored in this checkpoint instead of running")
+    parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign[_fast].json;"
+                        " give another path for a rerun that must not replace the stored one)")
     args = parser.parse_args()
     suffix = "_fast" if args.fast else ""
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
@@ -78,7 +80,7 @@ def main() -> None:
         "complete": iterations >= args.iterations,
     }
     print(json.dumps(out, indent=2))
-    path = Path(__file__).parent / "results" / f"codesign{suffix}.json"
+    path = Path(args.json) if args.json else Path(__file__).parent / "results" / f"codesign{suffix}.json"
     path.write_text(json.dumps(out, indent=2) + "\n")
     print(f"saved {path}")
 
