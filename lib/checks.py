@@ -12,10 +12,10 @@ def check_option(name: str, value: object, low: float, high: float = np.inf, int
     """Raise a ValueError (TypeError for a non-number; an integer is required with ``integer``) naming an option and
     its range ``[low, high]`` (``open_low``/``open_high``: that end excluded)."""
     kind = "an integer" if integer else "a number"
-    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
-    if isinstance(value, bool) or not ok_type:
+    number = value if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) else None
+    if number is None or (integer and not isinstance(number, (int, np.integer))):
         raise TypeError(f"{name} must be {kind}, got {type(value).__name__}")
-    v = float(value)
+    v = float(number)
     inside = (np.isfinite(v) or high == np.inf and v == np.inf) and (v > low if open_low else v >= low) and (
         v < high if open_high else v <= high)
     if not inside:

@@ -30,6 +30,7 @@ of P1 through static gains, and every transfer is finite at s = 0.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -222,7 +223,7 @@ class GeneralizedPlant:
         """Smallest damping ratio of the closed-loop poles with the PMAs passive (K = 0), cached."""
         if self._passive_damping is None:
             self.passive_pole()
-        return self._passive_damping
+        return cast(float, self._passive_damping)  # set by passive_pole()
 
     def passive_pole(self) -> complex:
         """The least damped closed-loop pole with the PMAs passive (K = 0) [rad/s], cached (sets
@@ -249,7 +250,7 @@ class GeneralizedPlant:
         if np.any(self.d[self.n_reg:, self.n_exo:]):
             return np.inf  # the passive poles are those of the loop closed through D_yv, not of A: no shortcut
         a = self.a
-        x = np.random.default_rng(0).standard_normal(a.shape[0]).astype(complex)
+        x = np.random.default_rng(0).standard_normal((a.shape[0],)).astype(complex)
         with np.errstate(all="ignore"):
             lu = linalg.lu_factor(a - complex(near) * np.eye(a.shape[0]), check_finite=False)
             for _ in range(iterations):

@@ -18,6 +18,7 @@ import time
 import traceback
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -101,7 +102,7 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     from . import design
 
     t0 = time.perf_counter()
-    out = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
+    out: dict[str, Any] = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
            "t_synthesis": 0.0}
     p = params or spacecraft.load_parameters()
     out["mass_check"] = spacecraft.truss_mass(float(h), p)
@@ -190,7 +191,7 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     from tqdm.auto import tqdm
 
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
-    kw = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
+    kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
     keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
     unique = list(dict.fromkeys(keys))
     saved = _read_partial(partial, partial_key)
@@ -278,9 +279,10 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         raise ValueError(f"hs must be a non-empty list of section sides in metres, all finite and > 0, got {hs!r}")
     check_option("chunk", chunk, 1, integer=True)
     stored, key = read_keyed(cache, key)
-    fresh = stored is None or len(stored.get("records", [])) != len(hs)
-    records: list[dict | None] = [None] * len(hs) if fresh else stored["records"]
-    time_s = 0.0 if fresh else float(stored.get("time_s", 0.0))
+    records: list[dict | None] = [None] * len(hs)
+    time_s = 0.0
+    if stored is not None and len(stored.get("records", [])) == len(hs):  # resume
+        records, time_s = stored["records"], float(stored.get("time_s", 0.0))
     todo = [i for i, r in enumerate(records) if r is None]
     for start in range(0, len(todo), chunk):
         idx = todo[start:start + chunk]
@@ -291,21 +293,22 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
             records[i] = rec
         if cache is not None:
             write_json(cache, {"key": key, "records": records, "time_s": time_s})
-    return records, time_s
+    return cast(list[dict], records), time_s  # every record is filled by now
 
 
 def _check_h_range(h_range: object, params: dict | None = None) -> None:
     """Raise a ValueError (TypeError for a non-sequence) unless ``h_range`` is ``(low, high)`` in metres with
     ``0 < low < high``, both finite, inside the design range of the spacecraft parameters (``truss.h_range``), where
     :func:`lib.design.models_at` builds models (outside it every particle would fail)."""
-    if isinstance(h_range, (str, bytes)) or not hasattr(h_range, "__len__"):
+    if isinstance(h_range, (str, bytes)) or not isinstance(h_range, (Sequence, np.ndarray)):
         raise TypeError(f"h_range must be a pair (low, high) of section sides in metres, got {h_range!r}")
-    ok = len(h_range) == 2 and all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in h_range)
-    if not (ok and np.all(np.isfinite(h_range)) and 0.0 < h_range[0] < h_range[1]):
+    pair = list(h_range)
+    ok = len(pair) == 2 and all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in pair)
+    if not (ok and np.all(np.isfinite(pair)) and 0.0 < pair[0] < pair[1]):
         raise ValueError(f"h_range must be (low, high) in metres with 0 < low < high (the paper's (0.015, 0.03)), got {h_range!r}")
     low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
-    if h_range[0] < low - 1e-12 or h_range[1] > high + 1e-12:
-        raise ValueError(f"h_range {tuple(h_range)} m leaves the design range [{low}, {high}] m of the spacecraft parameters: "
+    if pair[0] < low - 1e-12 or pair[1] > high + 1e-12:
+        raise ValueError(f"h_range {tuple(pair)} m leaves the design range [{low}, {high}] m of the spacecraft parameters: "
                          "widen truss.h_range in the parameters (data/spacecraft/parameters.json, or the params passed)")
 
 

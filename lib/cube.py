@@ -108,7 +108,8 @@ def cube_cccc_ffff(section: Section, lx: float = 1.0, ly: float = 1.0, lz: float
     for bottom, top_node, diag in _chains(side):
         blocks.append(l_chain((bottom, nodes[bottom]), (top_node, nodes[top_node]), (diag, nodes[diag]), section, n_modes,
                               name=f"L_{top_node}", h_param=h_param))
-    blocks.append(square_cccc(*[(n, nodes[n]) for n in _square(top)], section, n_modes, name="S_top", h_param=h_param))
+    a, b, c, d = ((n, nodes[n]) for n in _square(top))
+    blocks.append(square_cccc(a, b, c, d, section, n_modes, name="S_top", h_param=h_param))
     return connect(blocks, name=name, order=[f"N{i}" for i in range(1, 9)])
 
 

@@ -91,7 +91,7 @@ def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, om
     if not omega_min < omega_max < omega_spill:
         raise ValueError(f"the frequencies must satisfy omega_min < omega_max < omega_spill [rad/s], got {omega_min!r}, "
                          f"{omega_max!r}, {omega_spill!r}")
-    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).lft.grouped()
+    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).uncertain().grouped()
     t_build = time.perf_counter() - t0
     low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min)
     g_low = LFT(*low.reduced, lft.blocks, lft.params)

@@ -98,13 +98,13 @@ class FrameModel:
     mass: NDArray[np.float64]
 
     def _dofs(self, names: Sequence[str]) -> NDArray[np.int64]:
-        idx = []
+        idx: list[int] = []
         for n in names:
             if n not in self.node_index:
                 raise ValueError(f"unknown node {n!r}")
             i = self.node_index[n]
             idx.extend(range(6 * i, 6 * i + 6))
-        return np.asarray(idx, dtype=int)
+        return np.asarray(idx, dtype=np.int64)
 
     def modes(self, clamped: Sequence[str], reference: str | None = None, n_modes: int | None = None) -> FrameModes:
         """Natural frequencies and participation factors with the ``clamped`` nodes fixed.
@@ -172,7 +172,7 @@ def build_frame(
         raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
     node_index = {name: i for i, name in enumerate(nodes)}
     pos = [frames.as_vector3(nodes[name], f"position of {name}") for name in nodes]
-    elements = []
+    elements: list[tuple[int, int]] = []
     for p, c in members:
         if p not in node_index or c not in node_index:
             raise ValueError(f"member ({p!r}, {c!r}) uses an unknown node; nodes are {list(nodes)}")

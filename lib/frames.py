@@ -149,7 +149,7 @@ def beam_frame(r_p: ArrayLike, r_c: ArrayLike, y_hint: ArrayLike | None = None) 
     else:
         hint = as_vector3(y_hint, "y_hint")
         ey = hint - ex * (ex @ hint)
-        if np.linalg.norm(ey) < 1e-9 * max(1.0, np.linalg.norm(hint)):
+        if np.linalg.norm(ey) < 1e-9 * max(1.0, float(np.linalg.norm(hint))):
             raise ValueError("y_hint is parallel to the beam axis: choose a transverse direction")
         ey /= np.linalg.norm(ey)
         ez = np.cross(ex, ey)

@@ -84,15 +84,15 @@ def _matrix(x: ArrayLike, name: str) -> NDArray[np.float64]:
 
 def _prepare(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> _System:
     """Check, balance A (state similarity only), reduce to complex Schur form."""
-    a, b, c, d = (_matrix(x, name) for x, name in zip((a, b, c, d), "abcd"))
-    n = a.shape[0]
-    if a.shape != (n, n) or b.shape[0] != n or c.shape[1] != n or d.shape != (c.shape[0], b.shape[1]):
-        raise ValueError(f"shape mismatch: a {a.shape}, b {b.shape}, c {c.shape}, d {d.shape}; "
+    am, bm, cm, dm = (_matrix(x, name) for x, name in zip((a, b, c, d), "abcd"))
+    n = am.shape[0]
+    if am.shape != (n, n) or bm.shape[0] != n or cm.shape[1] != n or dm.shape != (cm.shape[0], bm.shape[1]):
+        raise ValueError(f"shape mismatch: a {am.shape}, b {bm.shape}, c {cm.shape}, d {dm.shape}; "
                          "need a (n, n), b (n, m), c (p, n), d (p, m)")
-    a, (s, _) = linalg.matrix_balance(a, permute=False, separate=True)  # a <- diag(1/s) a diag(s)
-    b, c = b / s[:, None], c * s[None, :]
-    t, u = linalg.schur(a, output="complex")
-    return _System(a, b, c, d, np.diag(t).copy(), np.asfortranarray(-t), u.conj().T @ b, c @ u)
+    am, (s, _) = linalg.matrix_balance(am, permute=False, separate=True)  # a <- diag(1/s) a diag(s)
+    bm, cm = bm / s[:, None], cm * s[None, :]
+    t, u = linalg.schur(am, output="complex")
+    return _System(am, bm, cm, dm, np.diag(t).copy(), np.asfortranarray(-t), u.conj().T @ bm, cm @ u)
 
 
 def _sigma(sys: _System, omega: NDArray[np.float64]) -> NDArray[np.float64]:

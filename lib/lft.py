@@ -207,10 +207,10 @@ class LFT:
         """Block-diagonal stack ordered ``[all Delta channels; all io channels]``: matrices, blocks, params, n_delta."""
         params: dict[str, Parameter] = {}
         for p in parts:
-            for k, v in p.params.items():
-                if k in params and params[k] != v:
-                    raise ValueError(f"parameter {k!r} is defined differently in two operands")
-                params[k] = v
+            for name, v in p.params.items():
+                if name in params and params[name] != v:
+                    raise ValueError(f"parameter {name!r} is defined differently in two operands")
+                params[name] = v
         a = linalg.block_diag(*[p.a for p in parts]) if any(p.nstates for p in parts) else np.zeros((0, 0))
         nd = sum(p.n_delta for p in parts)
         n_in = nd + sum(p.shape[1] for p in parts)
@@ -306,7 +306,7 @@ class LFT:
     def __mul__(self, other) -> "LFT":
         """Multiplication by a scalar, a scalar LFT (repeated as needed) or a matrix (as ``@``)."""
         if np.isscalar(other):
-            return self @ (float(other) * np.eye(self.shape[1]))
+            return self @ (float(other) * np.eye(self.shape[1]))  # type: ignore[arg-type]  # a real scalar (isscalar)
         o = self._as_lft(other)
         if self.shape == (1, 1) and o.shape != (1, 1):
             return self._scaled(o, self)
@@ -339,32 +339,32 @@ class LFT:
     @classmethod
     def blkdiag(cls, *parts) -> "LFT":
         """Block-diagonal concatenation."""
-        parts = [cls._as_lft(p) for p in parts]
-        nu = sum(p.shape[1] for p in parts)
-        ny = sum(p.shape[0] for p in parts)
-        return cls._interconnect(parts, np.zeros((nu, ny)), np.eye(nu), np.eye(ny), np.zeros((ny, nu)))
+        lfts = [cls._as_lft(p) for p in parts]
+        nu = sum(p.shape[1] for p in lfts)
+        ny = sum(p.shape[0] for p in lfts)
+        return cls._interconnect(lfts, np.zeros((nu, ny)), np.eye(nu), np.eye(ny), np.zeros((ny, nu)))
 
     @classmethod
     def hstack(cls, *parts) -> "LFT":
         """``[P1, P2, ...]``: same outputs, inputs side by side."""
-        parts = [cls._as_lft(p) for p in parts]
-        ny = parts[0].shape[0]
-        if any(p.shape[0] != ny for p in parts):
+        lfts = [cls._as_lft(p) for p in parts]
+        ny = lfts[0].shape[0]
+        if any(p.shape[0] != ny for p in lfts):
             raise ValueError("hstack needs operands with the same number of outputs")
-        nu = sum(p.shape[1] for p in parts)
-        f = np.hstack([np.eye(ny)] * len(parts))
-        return cls._interconnect(parts, np.zeros((nu, ny * len(parts))), np.eye(nu), f, np.zeros((ny, nu)))
+        nu = sum(p.shape[1] for p in lfts)
+        f = np.hstack([np.eye(ny)] * len(lfts))
+        return cls._interconnect(lfts, np.zeros((nu, ny * len(lfts))), np.eye(nu), f, np.zeros((ny, nu)))
 
     @classmethod
     def vstack(cls, *parts) -> "LFT":
         """``[P1; P2; ...]``: same inputs, outputs stacked."""
-        parts = [cls._as_lft(p) for p in parts]
-        nu = parts[0].shape[1]
-        if any(p.shape[1] != nu for p in parts):
+        lfts = [cls._as_lft(p) for p in parts]
+        nu = lfts[0].shape[1]
+        if any(p.shape[1] != nu for p in lfts):
             raise ValueError("vstack needs operands with the same number of inputs")
-        ny = sum(p.shape[0] for p in parts)
-        e = np.vstack([np.eye(nu)] * len(parts))
-        return cls._interconnect(parts, np.zeros((nu * len(parts), ny)), e, np.eye(ny), np.zeros((ny, nu)))
+        ny = sum(p.shape[0] for p in lfts)
+        e = np.vstack([np.eye(nu)] * len(lfts))
+        return cls._interconnect(lfts, np.zeros((nu * len(lfts), ny)), e, np.eye(ny), np.zeros((ny, nu)))
 
     def inv(self) -> "LFT":
         """Inverse, kept in LFT form (inversion of the io channels of the certain part).

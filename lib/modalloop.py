@@ -178,13 +178,12 @@ def aberth_poles(mu: NDArray, m_yv: NDArray, gain: NDArray, start: NDArray, tol:
     n = mu.size
     nv, ny = gain.shape
     lam = np.array(start, dtype=complex)
-    partner = _conjugate_partners(lam)
-    mirror = partner is not None
-    if mirror:  # iterate the upper half-plane and real ones, mirror the others
-        real = partner == np.arange(n)
-        active = (lam.imag > 0) | real
-    else:  # iterate every approximation
-        active = np.ones(n, dtype=bool)
+    pairing = _conjugate_partners(lam)
+    mirror = pairing is not None
+    partner = np.arange(n) if pairing is None else pairing  # (used only while mirroring)
+    real: NDArray[np.bool_] = np.equal(partner, np.arange(n))
+    # mirroring: iterate the upper half-plane and real ones, mirror the others; else iterate every approximation
+    active = (lam.imag > 0) | real if mirror else np.ones(n, dtype=bool)
     last_change = np.full(n, np.inf)
     eye = np.eye(nv)
     sweeps = 0

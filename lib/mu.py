@@ -28,6 +28,7 @@ import functools
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import cvxpy as cp
 import numpy as np
@@ -213,12 +214,12 @@ def _balance(m: NDArray, n: int, sweeps: int = 20) -> tuple[NDArray, NDArray, fl
             c, r = np.linalg.norm(s[:, i]), np.linalg.norm(s[i, :])
             if c > 0 and r > 0:
                 f = np.sqrt(c / r)
-                s[i, :], s[:, i], tv[i], worst = s[i, :] * f, s[:, i] / f, tv[i] * f, max(worst, abs(np.log(f)))
+                s[i, :], s[:, i], tv[i], worst = s[i, :] * f, s[:, i] / f, tv[i] * f, max(worst, float(abs(np.log(f))))
         for rows, is_e in ((np.s_[n:, :], True), (np.s_[:, n:], False)):
-            nrm = np.linalg.norm(s[rows])
+            nrm = float(np.linalg.norm(s[rows]))
             if nrm > 0:
                 s[rows] /= nrm
-                worst = max(worst, abs(np.log(nrm)))
+                worst = max(worst, float(abs(np.log(nrm))))
                 ce, cpv = (ce / nrm, cpv) if is_e else (ce, cpv / nrm)
         if worst < 1e-3:
             break
@@ -251,7 +252,7 @@ def _certify(ms: NDArray, sizes: tuple[int, ...], dmat: NDArray, gmat: NDArray) 
     return max(np.linalg.eigvalsh(0.5 * (schur + schur.conj().T))[-1], 0.0), margin, dmat
 
 
-_RETRIES = (("CLARABEL", {"static_regularization_constant": 1e-7}), ("SCS", {}))  # after a failed first solve
+_RETRIES: tuple[tuple[str, dict[str, float]], ...] = (("CLARABEL", {"static_regularization_constant": 1e-7}), ("SCS", {}))  # after a failed first solve
 
 
 def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", retry: bool = True, **solver_opts) -> UpperBound:
@@ -510,7 +511,7 @@ def wc_gain_lower(m_of_w: MOfW, blocks: Sequence, omegas: ArrayLike, n_starts: i
     get, rng, nbk = _m_at(m_of_w, w), np.random.default_rng(rng), len(sizes)
     corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * nbk, indexing="ij")).reshape(nbk, -1).T if nbk <= 10 \
         else rng.choice([-1.0, 1.0], size=(1024, nbk))
-    best = {"gain": -1.0, "omega": np.nan, "deltas": np.zeros(nbk), "n": 0}
+    best: dict[str, Any] = {"gain": -1.0, "omega": np.nan, "deltas": np.zeros(nbk), "n": 0}
     mats: dict[float, tuple[NDArray, float]] = {}
 
     def gain_grad(i: int | None, wi: float, d: NDArray) -> tuple[float, NDArray]:
@@ -534,7 +535,8 @@ def wc_gain_lower(m_of_w: MOfW, blocks: Sequence, omegas: ArrayLike, n_starts: i
         best["n"] += len(cand) - 1
         record(float(gains[top[0]]), wi, cand[top[0]])
         per_freq += [(gains[j], i, cand[j]) for j in top]
-    starts, count = [], np.zeros(len(w), int)
+    starts: list[tuple[float, int, NDArray]] = []
+    count = np.zeros(len(w), int)
     cap = n_starts if len(w) == 1 else -(-n_starts // 2)  # starts per frequency
     for c in sorted(per_freq, key=lambda c: -c[0]):
         if len(starts) < n_starts and count[c[1]] < cap:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, cast
 
 import matplotlib.pyplot as plt
 from matplotlib.ticker import MaxNLocator
@@ -11,6 +12,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .paths import resolve
+
+if TYPE_CHECKING:
+    from mpl_toolkits.mplot3d import Axes3D
 
 __all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels", "objective_grid"]
 
@@ -44,27 +48,28 @@ def draw_structure(ax: plt.Axes, nodes: Mapping[str, ArrayLike], members: Sequen
     ``ax`` must be a 3D axes unless ``planar`` (x-y drawing) is set.
     """
     pos = {k: np.asarray(v, float) for k, v in nodes.items()}
+    ax3 = cast("Axes3D", ax)  # used only when not planar
     for p, c in members:
         xyz = np.vstack([pos[p], pos[c]])
         if planar:
             ax.plot(xyz[:, 0], xyz[:, 1], "-", color="tab:blue", lw=2)
         else:
-            ax.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], "-", color="tab:blue", lw=2)
+            ax3.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], "-", color="tab:blue", lw=2)
     for name, r in pos.items():
-        style = dict(marker="s", color="k", ms=9) if name in clamped else dict(marker="o", color="tab:orange", ms=6)
+        style: dict[str, Any] = dict(marker="s", color="k", ms=9) if name in clamped else dict(marker="o", color="tab:orange", ms=6)
         if planar:
             ax.plot(r[0], r[1], ls="none", **style)
-            ax.annotate(name, r[:2], textcoords="offset points", xytext=(6, 6), fontsize=11)
+            ax.annotate(name, (r[0], r[1]), textcoords="offset points", xytext=(6, 6), fontsize=11)
         else:
-            ax.plot([r[0]], [r[1]], [r[2]], ls="none", **style)
-            ax.text(r[0], r[1], r[2], f"  {name}", fontsize=10)
+            ax3.plot([r[0]], [r[1]], [r[2]], ls="none", **style)
+            ax3.text(r[0], r[1], r[2], f"  {name}", fontsize=10)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     if planar:
         ax.set_aspect("equal")
         ax.margins(0.2)
     else:
-        ax.set_zlabel("z [m]")
+        ax3.set_zlabel("z [m]")
     if title:
         ax.set_title(title)
 

@@ -507,7 +507,7 @@ class MultiPortModel:
                     caus[k] = "w" if caus[k] == "a" else "a"
                     sign[off + k] = -1.0
             labels = p.labels
-            if p.is_scalar and off in idx:
+            if p.labels is not None and off in idx:  # a scalar port: its labels swap
                 labels = (p.labels[1], p.labels[0])
             ports.append(replace(p, causality=tuple(caus), labels=labels))
             new_caus.extend(caus)
@@ -615,11 +615,16 @@ class MultiPortModel:
         """The uncertainty channels (delta ports), in channel order."""
         return [p for p in self.ports if p.parameter is not None]
 
+    @property
+    def delta_parameters(self) -> list[str]:
+        """The parameter of each uncertainty channel, in channel order."""
+        return [p.parameter for p in self.ports if p.parameter is not None]
+
     def occurrences(self) -> dict[str, int]:
         """Number of delta channels of each parameter."""
         out: dict[str, int] = {}
-        for p in self.delta_ports:
-            out[p.parameter] = out.get(p.parameter, 0) + 1
+        for name in self.delta_parameters:
+            out[name] = out.get(name, 0) + 1
         return out
 
     def substitute(self, values: Mapping[str, float], normalized: bool = False, name: str | None = None) -> "MultiPortModel":
@@ -644,7 +649,7 @@ class MultiPortModel:
         dch = [self.offset(p.name) for p in self.delta_ports]
         ii = dch + [all_in.index(n) for n in in_names]
         oo = dch + [all_out.index(n) for n in out_names]
-        return LFT(self.a, self.b[:, ii], self.c[oo, :], self.d[np.ix_(oo, ii)], [p.parameter for p in self.delta_ports], self.params)
+        return LFT(self.a, self.b[:, ii], self.c[oo, :], self.d[np.ix_(oo, ii)], self.delta_parameters, self.params)
 
     @classmethod
     def from_lft(cls, lft, ports: Sequence[Port], name: str = "model") -> "MultiPortModel":

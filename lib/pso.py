@@ -18,9 +18,10 @@ floor(0.25 n))``. Initial positions uniform in the bounds, velocities uniform in
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -64,7 +65,7 @@ class SwarmState:
     inertia: float
     counter: int
     neighbours: int
-    rng: dict
+    rng: Mapping[str, Any]
     lower: NDArray[np.float64]
     upper: NDArray[np.float64]
     seed: int

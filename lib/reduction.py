@@ -112,7 +112,8 @@ def split_slow(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: float 
     omega = omega_min * np.logspace(0, 4, 9)
     g_slow = frequency_response(ts, b_s, c_s, np.zeros_like(d), omega)
     g_all = frequency_response(tf, b_f, c_f, d, omega) + g_slow
-    contrib = max(np.linalg.norm(g_slow[:, :, i], 2) / max(np.linalg.norm(g_all[:, :, i], 2), 1e-300) for i in range(omega.size))
+    contrib = max(float(np.linalg.norm(g_slow[:, :, i], 2)) / max(float(np.linalg.norm(g_all[:, :, i], 2)), 1e-300)
+                  for i in range(omega.size))
     return SlowSplit((tf, b_f, c_f, d.copy()), k, linalg.eigvals(ts), float(contrib), (ts, b_s, c_s))
 
 

@@ -97,7 +97,13 @@ class OpenLoop:
     model: MultiPortModel
     blocks: dict[str, MultiPortModel] = field(repr=False)
     parameters: dict[str, float]
-    lft: object | None = None
+    lft: LFT | None = None
+
+    def uncertain(self) -> LFT:
+        """The uncertain model ``F_u(G, Delta)`` (``lft``); a ValueError if the model was built without uncertainty."""
+        if self.lft is None:
+            raise ValueError("this open loop has no uncertain model: build it with open_loop(..., uncertain=True)")
+        return self.lft
 
     def rigid_mass_at_p1(self) -> np.ndarray:
         """Rigid mass matrix of the whole spacecraft at P1 (6x6): the inverse of the DC gain ``W_P1 -> a_P1``."""
@@ -186,8 +192,8 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
 
     # Hub: the truss base points carry the truss node names.
     points = dict(hub["points"])
-    rename = {v: k for k, v in tr["base_points"].items()}
-    hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {rename.get(k, k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
+    rename: dict[str, str] = {v: k for k, v in tr["base_points"].items()}
+    hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {(rename[k] if k in rename else k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
 
     section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
     origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
@@ -239,7 +245,7 @@ def reduced_uncertain_model(h: float, omega_max: float | None = 500.0, omega_min
     residualisation (paper: section "System Reduction"). Every uncertainty scenario is then a
     static closure of the Delta channels of this one reduced model.
     """
-    lft = open_loop(h, uncertain=True, params=params).lft.grouped()
+    lft = open_loop(h, uncertain=True, params=params).uncertain().grouped()
     red = modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min, omega_max=omega_max)
     return LFT(*red.reduced, lft.blocks, lft.params)
 

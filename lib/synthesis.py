@@ -91,8 +91,9 @@ class Scenario:
     @classmethod
     def from_vector(cls, x: ArrayLike) -> "Scenario":
         """From ``[d_mass, d_iyy, d_omega1, theta]`` (clipped to the box)."""
-        x = np.asarray(x, dtype=float)
-        return cls(*np.clip(x[:3], -1, 1), float(np.clip(x[3], 0.0, np.pi)))
+        v = np.asarray(x, dtype=float)
+        d = np.clip(v[:3], -1, 1)
+        return cls(float(d[0]), float(d[1]), float(d[2]), float(np.clip(v[3], 0.0, np.pi)))
 
     def vector(self) -> NDArray[np.float64]:
         """``[d_mass, d_iyy, d_omega1, theta]``."""
@@ -478,7 +479,7 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
         return lp
 
     with _workers(workers) as pmap:
-        cands = [Scenario(*c, float(th)) for th in thetas for c in corners]
+        cands = [Scenario(float(c[0]), float(c[1]), float(c[2]), float(th)) for th in thetas for c in corners]
         table = list(zip(cands, pmap(evaluate, cands)))
         evals += len(cands)
         value, worst, omega = {}, {}, {}
@@ -602,7 +603,7 @@ class _State:
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0,
               min_damping_all: float = 0.0, reject: Callable[[LoopPeaks], bool] | None = None,
-              order: Sequence[int] | None = None, chunk: int = 1,
+              order: Sequence[int] | NDArray | None = None, chunk: int = 1,
               modal: Callable[[GeneralizedPlant], ModalLoop | None] = lambda p: None) -> tuple[_State | None, int]:
     """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
     plants (skipped for a step that is rejected anyway). Returns the state and the number of plants evaluated.
@@ -645,10 +646,10 @@ def _linearise(plants, state: _State, group: str, band: float,
     return rows
 
 
-def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, NDArray, float]], radius: NDArray,
-        soft: list[tuple[float, NDArray, float]] = (), penalty: float = 0.0):
+def _lp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray,
+        soft: Sequence[tuple[float, NDArray, float]] = (), penalty: float = 0.0) -> tuple[NDArray, float, float] | None:
     """Trust-region LP: ``min t + penalty s`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound_k`` (hard),
-    ``c_l + h_l d <= bound_l + s`` (soft, elastic), ``s >= 0``, ``|d| <= radius``. Returns ``(d, t, s)``, or Nones
+    ``c_l + h_l d <= bound_l + s`` (soft, elastic), ``s >= 0``, ``|d| <= radius``. Returns ``(d, t, s)``, or None
     if the LP has no solution (the hard constraints cannot be met in the trust region)."""
     n = radius.size
     a_ub = ([np.r_[g, -1.0, 0.0] for _, g in objective] + [np.r_[h.ravel(), 0.0, 0.0] for _, h, _ in constraints]
@@ -657,7 +658,7 @@ def _lp(objective: list[tuple[float, NDArray]], constraints: list[tuple[float, N
     s_max = None if soft else 0.0
     res = linprog(np.r_[np.zeros(n), 1.0, penalty], A_ub=np.array(a_ub), b_ub=np.array(b_ub),
                   bounds=[(-r, r) for r in radius] + [(None, None), (0.0, s_max)], method="highs")
-    return (res.x[:n], res.x[n], res.x[n + 1]) if res.status == 0 else (None, None, None)
+    return (res.x[:n], float(res.x[n]), float(res.x[n + 1])) if res.status == 0 else None
 
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
@@ -768,7 +769,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                         min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
                         min_damping_all, chunk=_n_workers(workers), fast=fast)
         for round_ in range(max_rounds):
-            state = _stabilise(prob, prob.evaluate(gain))
+            state = _stabilise(prob, prob.evaluate_all(gain))
             if not state.stable():
                 message = "could not stabilise every scenario from the starting gain"
                 break
@@ -793,7 +794,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
             scen += added
             prob.plants += plants_for(added)
-        final = prob.evaluate(gain, dense=True)
+        final = prob.evaluate_all(gain, dense=True)
     j_c = max(final.value("rpe"), worst.value["rpe"] if worst else 0.0)
     z_c = max(final.value("effort"), worst.value["effort"] if worst else 0.0)
     stable = final.stable() and (worst is None or not worst.unstable)
@@ -855,13 +856,23 @@ class _Problem:
         self.evaluations += n
         return state
 
+    def evaluate_all(self, gain: NDArray, dense: bool = False) -> _State:
+        """All plants at ``gain`` (no reject test, so never stopped early); ``dense`` as in :meth:`evaluate`."""
+        state = self.evaluate(gain, dense=dense)
+        if state is None:  # only a reject test stops an evaluation
+            raise RuntimeError("internal error: an evaluation without a reject test returned no state")
+        return state
+
     def stability_rows(self, state: _State, all_plants: bool, radius: NDArray | None = None) -> list[tuple[float, NDArray, float]]:
         """Linearised margins of the poles nearest their limit (stability plants; all plants if asked; with
         ``radius``, the trust region, those that could rise highest within it, see :meth:`_Eigen.rows`). Target
         ``T = -min_decay - 0.01 zeta_req |lambda|`` (a 1 % back-off): a pole below it may close half its distance
         to it per step; one inside the back-off may not rise. A constraint held exactly on its boundary
         (``value = -min_decay``) would be crossed at second order by every step along it."""
-        def rows(eig: _Eigen, n: int) -> list[tuple[float, NDArray, float]]:
+        def rows(eig: _Eigen | None, n: int) -> list[tuple[float, NDArray, float]]:
+            if eig is None:
+                raise ValueError("stability rows need the closed-loop eigen-decomposition of the peaks (LoopPeaks.eigen, "
+                                 "which loop_peaks sets)")
             out = []
             for v, g, req in eig.rows(n, radius):
                 target = -self.min_decay - 0.01 * req
@@ -899,11 +910,11 @@ def _stabilise(prob: _Problem, state: _State) -> _State:
             break
         prob.iterations += 1
         rows = [(v, g.ravel()) for v, g, _ in prob.stability_rows(state, all_plants=True, radius=radius)]
-        d, _, _ = _lp(rows, [], radius)
-        if d is None:
+        sol = _lp(rows, [], radius)
+        if sol is None:
             radius = radius / 4
             continue
-        trial = prob.evaluate(state.gain + d.reshape(4, 8))
+        trial = prob.evaluate_all(state.gain + sol[0].reshape(4, 8))
         if trial.abscissa() < state.abscissa():
             state = trial
             prob.history.append(dict(phase="stabilise", abscissa=trial.abscissa()))
@@ -940,13 +951,13 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             def merit(j: float, z: float) -> float:
                 return j / current + _PENALTY * max(0.0, z - target) / gamma
 
-            d, t, slack = _lp(obj, stab, radius, soft, _PENALTY)
-            now, pred = merit(current, z_now), (None if d is None else t + _PENALTY * slack)
+            sol = _lp(obj, stab, radius, soft, _PENALTY)
+            now, pred = merit(current, z_now), (None if sol is None else sol[1] + _PENALTY * sol[2])
         else:
-            d, pred, _ = _lp(cons, stab, radius)
-            now = z_now
+            sol = _lp(cons, stab, radius)
+            now, pred = z_now, (None if sol is None else sol[1])
         small = np.all(radius < 1e-7 * np.maximum(1.0, np.abs(state.gain.ravel())))
-        if d is None or now - pred <= 1e-3 * prob.tol * now:
+        if sol is None or pred is None or now - pred <= 1e-3 * prob.tol * now:
             if small:
                 break
             radius = radius / 4
@@ -958,12 +969,12 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
         else:
             def reject(lp: LoopPeaks) -> bool:
                 return not lp.stable or lp.norm("effort") >= worst_new
-        trial = prob.evaluate(state.gain + d.reshape(4, 8), reject, state)
-        ok = trial is not None and trial.stable() and (trial.value("effort") < gamma if feasible else True)
-        if ok:
+        trial = prob.evaluate(state.gain + sol[0].reshape(4, 8), reject, state)
+        new = None  # the merit of an acceptable trial
+        if trial is not None and trial.stable() and (trial.value("effort") < gamma if feasible else True):
             new = merit(trial.value("rpe"), trial.value("effort")) if feasible else trial.value("effort")
-        ratio = (now - new) / (now - pred) if ok else -1.0
-        if ok and ratio > 0.1:
+        ratio = (now - new) / (now - pred) if new is not None else -1.0
+        if trial is not None and new is not None and ratio > 0.1:
             state = trial
             prob.history.append(dict(phase="optimise" if feasible else "feasibility", J=trial.value("rpe"), Z=trial.value("effort"),
                                      radius=float(radius.max())))

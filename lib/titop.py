@@ -475,7 +475,7 @@ def analytic_frequencies(length: float, section: Section, motion: str, boundary:
         factor = {"clamped-free": (2 * k - 1) * np.pi / 2, "clamped-clamped": k * np.pi}.get(boundary)
         if factor is None:
             raise ValueError(f"boundary {boundary!r} not available for {motion}")
-        return factor * c / length
+        return np.asarray(factor * c / length, dtype=np.float64)
     if motion not in ("bending_y", "bending_z"):
         raise ValueError(f"motion must be bending_y, bending_z, axial or torsion, got {motion!r}")
     inertia = s.iz if motion == "bending_y" else s.iy

@@ -1,7 +1,9 @@
-"""Lint: ruff with the project's rules (``pyproject.toml``) over the library, tests, benchmarks, scripts and notebooks."""
+"""Lint and types: ruff with the project's rules (``pyproject.toml``) over the library, tests, benchmarks, scripts and
+notebooks; mypy over the library (its annotations are checked, not decoration)."""
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -28,3 +30,24 @@ def test_lint_rules_catch_real_mistakes(tmp_path: Path) -> None:
     run = _ruff("bad.py", cwd=tmp_path)
     assert run.returncode == 1
     assert "F401" in run.stdout and "B006" in run.stdout
+
+
+def _mypy(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "mypy", "--no-incremental", "--cache-dir", os.devnull, *args],
+                          cwd=cwd, capture_output=True, text=True, check=False)
+
+
+def test_library_type_checks() -> None:
+    run = _mypy()  # files and settings from pyproject.toml: lib/
+    assert run.returncode == 0, f"mypy found type errors in lib/ (fix them; an ignore needs its reason):\n{run.stdout}{run.stderr}"
+
+
+def test_type_check_catches_real_mistakes(tmp_path: Path) -> None:
+    # the project's configuration, on a module that passes a possibly-None value where a float is required
+    shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "bad.py").write_text("def half(x: float) -> float:\n    return x / 2\n\n\n"
+                                            "def f(d: dict[str, float]) -> float:\n    return half(d.get('a'))\n")
+    run = _mypy(cwd=tmp_path)
+    assert run.returncode == 1
+    assert "arg-type" in run.stdout and "bad.py:6" in run.stdout

@@ -148,7 +148,7 @@ def test_margin_gradient_against_finite_differences(plant):
 def test_elastic_lp():
     """min t s.t. t >= d, d <= -1 (hard) is infeasible in |d| <= 0.5; with the constraint soft it takes the slack."""
     objective = [(0.0, np.array([1.0]))]
-    assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5]))[0] is None
+    assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5])) is None
     d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0)
     assert np.allclose([d[0], t, s], [-0.5, -0.5, 0.5])
     d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), 1.0)], penalty=10.0)
