@@ -35,7 +35,7 @@ def naive_models(h: float) -> tuple:
     fast = reduction._sylvester_schur
     reduction._sylvester_schur = reduction._sylvester_general
     try:
-        lft = spacecraft.open_loop(h, uncertain=True).lft.grouped()
+        lft = spacecraft.open_loop(h, uncertain=True).uncertain().grouped()
         low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d)
         return (low, reduction.modal_reduction(*low.reduced, omega_max=500.0),
                 reduction.modal_reduction(*low.reduced, omega_max=1e4))

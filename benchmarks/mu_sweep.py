@@ -44,7 +44,7 @@ def main() -> None:
     source, h, gain = design.stored_design(args.design)
     models = design.models_at(h)
     thetas = 4 * np.arctan(np.linspace(0.0, 1.0, args.n_tau))
-    opts = dict(n_log=150, focus=0.7, seed=2026)
+    opts: dict = dict(n_log=150, focus=0.7, seed=2026)
 
     t0 = time.perf_counter()
     seq = robustness.sweep(models.g_r_low, thetas, gain, models.inertia, settings, **opts)

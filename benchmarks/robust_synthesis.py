@@ -51,11 +51,11 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
     out = {}
     for step in steps:
         m = design.models_at(h0 + step)
-        eig = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), rec["gain"]).eigen for sc in scen]
-        zeta = min(float(np.min(-e.lam.real / np.abs(e.lam))) for e in eig)
+        poles = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), rec["gain"]).poles() for sc in scen]
+        zeta = min(float(np.min(-lam.real / np.abs(lam))) for lam in poles)
         r = design.robust_design(m, settings, gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)
         optimiser_steps = [e for e in r.history if e.get("phase") != "stabilise"]
-        out[f"+{1e3 * step:g}mm"] = dict(start_max_real=max(float(e.lam.real.max()) for e in eig), start_min_damping=zeta,
+        out[f"+{1e3 * step:g}mm"] = dict(start_max_real=max(float(lam.real.max()) for lam in poles), start_min_damping=zeta,
                                          time_s=r.time_s, iterations=r.iterations, J_c=r.j_c, Z_c=r.z_c, success=r.success,
                                          grid_J_c=rec["J_c"],
                                          # what restoring stability cost: accepted restoration steps, then J and Z after the
@@ -96,7 +96,7 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
                                                            for path, row in with_set.items()))
     return dict(source=dict(h=h0, shifts=list(shifts), fast=fast_source, time_s=src.time_s, iterations=src.iterations, J_c=src.j_c,
                             Z_c=src.z_c, success=src.success, restarts=src.restarts, message=src.message),
-                start_max_real=max(float(p.eigen.lam.real.max()) for p in peaks), start_J=max(p.norm("rpe") for p in peaks),
+                start_max_real=max(float(p.poles().real.max()) for p in peaks), start_J=max(p.norm("rpe") for p in peaks),
                 start_Z=max(p.norm("effort") for p in peaks), time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations,
                 J_c=r.j_c, Z_c=r.z_c, success=r.success, scenarios=len(r.scenarios),
                 fast=_row(fast), with_source_scenarios=dict(scenarios=len(src.scenarios), **with_set))
@@ -133,7 +133,7 @@ def main() -> None:
     settings = LoopSettings.from_parameters()
     path = Path(__file__).parent / "results" / "robust_synthesis.json"
     if args.only:
-        out = json.loads(path.read_text()) if path.exists() else {}
+        out: dict = json.loads(path.read_text()) if path.exists() else {}
         if args.only == "tolerant":
             for name, fast_source in (("warm_from_truss_tolerant_2.1cm", False), ("warm_from_truss_tolerant_2.1cm_fast_source", True)):
                 out[name] = case = _warm_from_tolerant(settings, fast_source=fast_source)
@@ -144,7 +144,7 @@ def main() -> None:
         path.write_text(json.dumps(out, indent=2) + "\n")
         print(f"saved {path}")
         return
-    out: dict = {"machine": machine_info()}
+    out = {"machine": machine_info()}
     t0 = time.perf_counter()
     m = design.models_at(0.02139)
     out["models_at_s"] = time.perf_counter() - t0

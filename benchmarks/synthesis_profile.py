@@ -56,7 +56,7 @@ PARTS = (
 def _cumulative(stats: pstats.Stats, name: str, caller: str | None) -> float:
     """Cumulative time [s] of the functions called ``name`` (only the calls made from ``caller``, if given)."""
     total = 0.0
-    for (_, _, func), (_, _, _, ct, callers) in stats.stats.items():
+    for (_, _, func), (_, _, _, ct, callers) in stats.stats.items():  # type: ignore[attr-defined]  # undocumented table of pstats
         if func != name:
             continue
         if caller is None:

@@ -172,6 +172,12 @@ class LoopPeaks:
         """Frequency of the largest peak [rad/s]."""
         return self.peaks[group][0][1]
 
+    def poles(self) -> NDArray[np.complex128]:
+        """The closed-loop poles [rad/s] (from ``eigen``, which :func:`loop_peaks` sets)."""
+        if self.eigen is None:
+            raise ValueError("these peaks carry no eigen-decomposition (eigen is None): compute them with loop_peaks")
+        return self.eigen.lam
+
 
 def _zoom_max(fun: Callable[[NDArray], NDArray], lo: NDArray, hi: NDArray, n: int = 17,
               zooms: int = 5) -> tuple[NDArray, NDArray]:
