@@ -216,7 +216,7 @@ def _balance(m: NDArray, n: int, sweeps: int = 20) -> tuple[NDArray, NDArray, fl
                 f = np.sqrt(c / r)
                 s[i, :], s[:, i], tv[i], worst = s[i, :] * f, s[:, i] / f, tv[i] * f, max(worst, float(abs(np.log(f))))
         for rows, is_e in ((np.s_[n:, :], True), (np.s_[:, n:], False)):
-            nrm = float(np.linalg.norm(s[rows]))
+            nrm = np.float64(np.linalg.norm(s[rows]))  # numpy arithmetic: inf, not an exception, at extreme scales
             if nrm > 0:
                 s[rows] /= nrm
                 worst = max(worst, float(abs(np.log(nrm))))
