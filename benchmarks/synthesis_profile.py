@@ -19,8 +19,13 @@ would have to shrink: the cost of the closed-loop eigen-decomposition grows as t
 is largest at the low end of the design range (more truss modes below the 500 rad/s cut), where the co-design's
 optimum lies.
 
-Prints a table and saves benchmarks/results/synthesis_profile.json.
-Run: python benchmarks/synthesis_profile.py [--h 0.015 0.02139 0.03]
+With ``--fast`` the synthesis evaluates the optimiser's plants by the fast path (:mod:`lib.modalloop`, as the
+co-design's fast runs do; ``modal_poles`` is then the Aberth iteration of the closed-loop poles, part of
+``optimiser_peaks``); with ``--warm`` it starts, as a co-design particle does, from the gain and scenario set of the
+stored co-design grid's design nearest below h (``data/results/07_grid.json``) instead of all gains at -1.
+
+Prints a table and saves benchmarks/results/synthesis_profile.json (``--out`` elsewhere).
+Run: python benchmarks/synthesis_profile.py [--h 0.015 0.02139 0.03] [--fast] [--warm] [--out PATH]
 """
 
 from __future__ import annotations
@@ -50,6 +55,7 @@ PARTS = (
     ("lp", "_lp", None),
     ("stability_rows", "stability_rows", None),
     ("search", "worst_case", None),
+    ("modal_poles", "aberth_poles", None),
 )
 
 
@@ -66,8 +72,23 @@ def _cumulative(stats: pstats.Stats, name: str, caller: str | None) -> float:
     return total
 
 
-def profile_at(h: float, settings: LoopSettings) -> dict:
-    """Build the models at ``h`` [m] and profile one cold synthesis (co-design tolerance, one thread)."""
+def _warm_start(h: float) -> tuple[float, dict]:
+    """The stored co-design grid's design nearest below ``h`` [m]: its h and the warm-start arguments (gain, scenarios)."""
+    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
+    below = [r for r in grid["records"] if r["h"] < h - 1e-9 and r["status"] == "ok"]
+    if not below:
+        raise SystemExit(f"--warm: the stored grid has no valid design below h = {h} m")
+    rec = max(below, key=lambda r: r["h"])
+    return rec["h"], dict(gain0=rec["gain"], scenarios=[synthesis.Scenario.from_vector(v) for v in rec["scenarios"]])
+
+
+def profile_at(h: float, settings: LoopSettings, fast: bool = False, warm: bool = False) -> dict:
+    """Build the models at ``h`` [m] and profile one synthesis (co-design tolerance, one thread): cold, or with
+    ``warm`` from the grid's design nearest below h; by the fast path with ``fast``."""
+    start: dict = {}
+    h_start = None
+    if warm:
+        h_start, start = _warm_start(h)
     with threadpool_limits(1):
         t0 = time.perf_counter()
         models = design.models_at(h)
@@ -75,14 +96,14 @@ def profile_at(h: float, settings: LoopSettings) -> dict:
         prof = cProfile.Profile()
         t0 = time.perf_counter()
         prof.enable()
-        res = design.robust_design(models, settings, workers=1, **codesign.SYNTHESIS_OPTIONS)
+        res = design.robust_design(models, settings, workers=1, fast=fast, **start, **codesign.SYNTHESIS_OPTIONS)
         prof.disable()
         t_syn = time.perf_counter() - t0
     stats = pstats.Stats(prof)
     parts = {label: _cumulative(stats, name, caller) for label, name, caller in PARTS}
-    return {"h": h, "order_g_r": int(models.g_r.a.shape[0]), "order_spillover": int(models.g_check.a.shape[0]),
+    return {"h": h, "fast": fast, "warm_from_h": h_start, "order_g_r": int(models.g_r.a.shape[0]), "order_spillover": int(models.g_check.a.shape[0]),
             "t_model_s": t_model, "t_synthesis_s": t_syn, "parts_s": parts,
-            "other_s": t_syn - sum(v for k, v in parts.items() if k != "g_r_eig"),
+            "other_s": t_syn - sum(v for k, v in parts.items() if k not in ("g_r_eig", "modal_poles")),
             "iterations": res.iterations, "evaluations": res.evaluations, "scenarios": len(res.scenarios),
             "j_c": res.j_c, "z_c": res.z_c, "success": res.success, "message": res.message}
 
@@ -90,22 +111,25 @@ def profile_at(h: float, settings: LoopSettings) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--h", type=float, nargs="+", default=[0.015, 0.02139, 0.03], help="section sides [m]")
+    ap.add_argument("--fast", action="store_true", help="the fast path (lib.modalloop) in the optimiser")
+    ap.add_argument("--warm", action="store_true", help="warm start from the stored grid's design nearest below h")
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "synthesis_profile.json"))
     args = ap.parse_args()
     settings = LoopSettings.from_parameters()
     rows = []
     for h in args.h:
-        r = profile_at(h, settings)
+        r = profile_at(h, settings, args.fast, args.warm)
         rows.append(r)
         p = r["parts_s"]
-        print(f"h = {100 * h:.3f} cm: G_r order {r['order_g_r']}, spillover model {r['order_spillover']}; model {r['t_model_s']:.1f} s, "
+        start = "cold" if r["warm_from_h"] is None else f"warm from the {100 * r['warm_from_h']:.2f} cm grid design"
+        print(f"[{start}, {'fast' if args.fast else 'dense'} path] h = {100 * h:.3f} cm: G_r order {r['order_g_r']}, spillover model {r['order_spillover']}; model {r['t_model_s']:.1f} s, "
               f"synthesis {r['t_synthesis_s']:.1f} s ({r['iterations']} iterations, {r['evaluations']} plant evaluations, "
               f"{r['scenarios']} scenarios; J_c {r['j_c']:.4f}, Z_c {r['z_c']:.3f}, {'valid' if r['success'] else 'FAILED'})")
         for label, _, _ in PARTS:
             print(f"    {label:16s} {p[label]:7.1f} s  {100 * p[label] / r['t_synthesis_s']:5.1f} %")
         print(f"    {'other':16s} {r['other_s']:7.1f} s")
     out = {"machine": machine_info(),
-           "synthesis": synthesis.ALGORITHM, "options": codesign.SYNTHESIS_OPTIONS, "runs": rows,
+           "synthesis": synthesis.ALGORITHM, "options": {**codesign.SYNTHESIS_OPTIONS, "fast": args.fast}, "runs": rows,
            "note": "standard-library profiler (cProfile); times include its overhead"}
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(out, indent=1))
