@@ -191,9 +191,9 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     unc = uncertain_parameters(p) if uncertain else {}
 
     # Hub: the truss base points carry the truss node names.
-    points = dict(hub["points"])
-    rename: dict[str, str] = {v: k for k, v in tr["base_points"].items()}
-    hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {(rename[k] if k in rename else k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
+    points: dict[str, list[float]] = dict(hub["points"])
+    rename = {v: k for k, v in tr["base_points"].items()}
+    hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {rename.get(k, k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
 
     section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
     origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)

@@ -172,11 +172,15 @@ class LoopPeaks:
         """Frequency of the largest peak [rad/s]."""
         return self.peaks[group][0][1]
 
-    def poles(self) -> NDArray[np.complex128]:
-        """The closed-loop poles [rad/s] (from ``eigen``, which :func:`loop_peaks` sets)."""
+    def decomposition(self) -> "_Eigen":
+        """``eigen``, which :func:`loop_peaks` sets; a ValueError if these peaks carry none."""
         if self.eigen is None:
             raise ValueError("these peaks carry no eigen-decomposition (eigen is None): compute them with loop_peaks")
-        return self.eigen.lam
+        return self.eigen
+
+    def poles(self) -> NDArray[np.complex128]:
+        """The closed-loop poles [rad/s]."""
+        return self.decomposition().lam
 
 
 def _zoom_max(fun: Callable[[NDArray], NDArray], lo: NDArray, hi: NDArray, n: int = 17,
@@ -875,20 +879,18 @@ class _Problem:
         ``T = -min_decay - 0.01 zeta_req |lambda|`` (a 1 % back-off): a pole below it may close half its distance
         to it per step; one inside the back-off may not rise. A constraint held exactly on its boundary
         (``value = -min_decay``) would be crossed at second order by every step along it."""
-        def rows(eig: _Eigen | None, n: int) -> list[tuple[float, NDArray, float]]:
-            if eig is None:
-                raise ValueError("stability rows need the closed-loop eigen-decomposition of the peaks (LoopPeaks.eigen, "
-                                 "which loop_peaks sets)")
+        def rows(eig: _Eigen, n: int) -> list[tuple[float, NDArray, float]]:
             out = []
             for v, g, req in eig.rows(n, radius):
                 target = -self.min_decay - 0.01 * req
                 out.append((v, g, 0.5 * (v + target) if v <= target else v))
             return out
 
-        found = [r for lp in state.peaks for r in rows(lp.eigen, 6 if all_plants else 2)]
-        state.extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check, self.modal(p))
-                       for x, p in zip(state.extra, self.checks)]
-        return found + [r for x in state.extra for r in rows(x, 12)]
+        found = [r for lp in state.peaks for r in rows(lp.decomposition(), 6 if all_plants else 2)]
+        extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check, self.modal(p))
+                 for x, p in zip(state.extra, self.checks)]
+        state.extra = [*extra]
+        return found + [r for x in extra for r in rows(x, 12)]
 
     def radius(self, gain: NDArray) -> NDArray:
         return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
