@@ -213,21 +213,49 @@ def hinf_norm(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, rtol: floa
     for i in np.argsort(s_all[:w_pole.size])[::-1][:3]:
         w, s = _refine(sys, w_pole[i] / (1 + 3 * z_pole[i]), w_pole[i] * (1 + 3 * z_pole[i]), w_pole[i], s_all[i])
         w_lb, lb = (w, s) if s > lb else (w_lb, lb)
+    if w_lb == 0 or np.isinf(w_lb):
+        # no resonance gave the bound (e.g. only well-damped poles): a log grid over the poles' band as well, so that
+        # the bound is not left at the DC or high-frequency gain, where the Hamiltonian's crossings near w = 0 or
+        # at very high w are ill-conditioned and can be missed
+        w_lb, lb = max([(w_lb, lb), _grid_max(sys, _open_band(sys.poles))], key=lambda t: t[1])
     if lb == 0:
-        return HinfResult(0.0, 0.0, 0, True)
+        zero = not (np.any(sys.b) and np.any(sys.c))  # G = D = 0 exactly; otherwise G vanished on every point tried
+        return HinfResult(0.0, 0.0, 0, zero)
     for it in range(1, int(max_iter) + 1):
         gamma = (1 + rtol) * lb
         cross = _crossings(sys, gamma)
-        if cross.size < 2:
+        if cross.size == 0:
             return HinfResult(float(lb), float(w_lb), it, True)
         mids = (cross[:-1] + cross[1:]) / 2
         s_mid = _sigma(sys, mids)
-        k = int(np.argmax(s_mid))
-        if s_mid[k] > lb:
+        k = int(np.argmax(s_mid)) if mids.size else -1
+        if k >= 0 and s_mid[k] > lb:
             w_lb, lb = _refine(sys, cross[k], cross[k + 1], mids[k], s_mid[k])
-        if s_mid[k] <= gamma:  # no interval above gamma between consecutive candidates
-            return HinfResult(float(lb), float(w_lb), it, True)
+        if cross.size % 2:
+            # sigma_max <= lb < gamma at DC and at infinity, so the crossings come in pairs: one was missed (near
+            # w = 0 or at very high w, where the Hamiltonian is ill-conditioned). Search the two open ends.
+            w_end, s_end = _grid_max(sys, np.r_[np.geomspace(cross[0] * 1e-8, cross[0], 41), np.geomspace(cross[-1], cross[-1] * 1e8, 41)])
+            if s_end > lb:
+                w_lb, lb = w_end, s_end
+                continue
+        if k < 0 or s_mid[k] <= gamma:  # no interval above gamma between consecutive candidates
+            return HinfResult(float(lb), float(w_lb), it, cross.size % 2 == 0)
     return HinfResult(float(lb), float(w_lb), int(max_iter), False)
+
+
+def _open_band(poles: NDArray[np.complex128]) -> NDArray[np.float64]:
+    """Log grid from a decade below the slowest pole to a decade above the fastest [rad/s] (1 rad/s if A has only
+    poles at 0, which a stable A has not)."""
+    mag = np.abs(poles)
+    mag = mag[mag > 0] if np.any(mag > 0) else np.ones(1)
+    return np.geomspace(mag.min() / 10, mag.max() * 10, 60)
+
+
+def _grid_max(sys: _System, w: NDArray[np.float64]) -> tuple[float, float]:
+    """Largest sigma_max on the sorted grid ``w`` [rad/s], refined between the neighbours of the best point."""
+    s = _sigma(sys, w)
+    i = int(np.argmax(s))
+    return _refine(sys, w[max(i - 1, 0)], w[min(i + 1, w.size - 1)], float(w[i]), float(s[i]))
 
 
 def _grid(poles: NDArray, omega_min: float, omega_max: float, n_log: int, n_per_mode: int,

@@ -21,6 +21,12 @@ def one_mode(zeta, w):
     return np.array([[0.0, 1.0], [-w**2, -2 * zeta * w]]), np.array([[0.0], [1.0]]), np.array([[1.0, 0.0]]), np.zeros((1, 1))
 
 
+def band_pass(k, d):
+    """``d + k s / ((s + 1)(s + 2))``: zero gain (or d) at DC and at infinity, peak ``d + k / 3`` at sqrt(2) rad/s,
+    and no pole with damping below 0.5 (the start bound comes from DC and infinity only)."""
+    return np.diag([-1.0, -2.0]), np.array([[1.0], [1.0]]), k * np.array([[-1.0, 2.0]]), np.array([[d]])
+
+
 def random_stable(seed, n, m=3, p=2, with_d=True):
     rng = np.random.default_rng(seed)
     a = rng.normal(size=(n, n))
@@ -90,7 +96,13 @@ def test_random_mimo_against_ab13dd(seed, n, with_d):
 
 
 def test_hamiltonian_iteration_raises_the_bound_and_flags_non_convergence():
-    sys_ = random_stable(1, 11, m=2, p=4)  # the pole-based lower bound is not the peak here
+    """A resonance at 10 rad/s (zeta 0.01, peak 1) gives the start bound; the peak is the well-damped band-pass
+    term's (15 s / ((s + 1)(s + 2)): 5 at sqrt(2) rad/s), which only the Hamiltonian iteration finds."""
+    from scipy.linalg import block_diag
+
+    a1, b1, c1, d1 = one_mode(0.01, 10.0)
+    a2, b2, c2, d2 = band_pass(15.0, 0.0)
+    sys_ = block_diag(a1, a2), np.vstack([2 * b1, b2]), np.hstack([c1, c2]), d1 + d2
     res, (gpeak, _) = hinf_norm(*sys_), ab13dd(*sys_)
     assert res.certified and res.iterations >= 2 and abs(res.norm / gpeak - 1) <= 1e-9
     early = hinf_norm(*sys_, max_iter=1)  # the first Hamiltonian test finds an interval above gamma
@@ -120,6 +132,36 @@ def test_crossings_found_on_ill_conditioned_realisation(delta):
     cross = _crossings(_prepare(*sys_), exact.norm * (1 - delta))
     brackets = (cross[:-1] < exact.omega) & (cross[1:] > exact.omega) & (np.diff(cross) < 0.01 * exact.omega)
     assert brackets.any()
+
+
+@pytest.mark.parametrize("k, d", [(1.0, 0.0), (1.0, 1e-2), (100.0, 1.0), (1e4, 1e-2)])
+def test_well_damped_band_pass_is_not_underestimated(k, d):
+    """Found by a review (2026-12-03): with no lightly damped pole the start bound was the DC or high-frequency
+    gain; 0 was returned as certified, and otherwise the Hamiltonian's crossing near w = 0 (ill-conditioned there)
+    was missed, so that the single crossing left ended the iteration, certified (1 for 34.33 at k = 100, d = 1)."""
+    sys_ = band_pass(k, d)
+    res, (gpeak, _) = hinf_norm(*sys_), ab13dd(*sys_)
+    assert abs(gpeak / (d + k / 3) - 1) <= 1e-9  # the reference against the closed form
+    assert res.certified and abs(res.norm / gpeak - 1) <= 1e-7 and abs(res.omega / np.sqrt(2) - 1) <= 1e-4
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_random_well_damped_band_pass_against_ab13dd(seed):
+    """Sums of well-damped band-pass terms (real poles only), zero at DC and at infinity."""
+    rng = np.random.default_rng(seed)
+    poles = -np.exp(rng.uniform(np.log(1e-2), np.log(1e3), 6))
+    a, b = np.diag(poles), rng.normal(size=(6, 2))
+    c = rng.normal(size=(2, 6)) * np.exp(rng.uniform(-3, 3, 6))
+    c -= (c @ np.linalg.solve(a, b) @ np.linalg.pinv(np.linalg.solve(a, b)))  # zero DC gain
+    sys_ = a, b, c, np.zeros((2, 2))
+    res, (gpeak, _) = hinf_norm(*sys_), ab13dd(*sys_)
+    assert res.certified and abs(res.norm / gpeak - 1) <= 1e-6
+
+
+def test_zero_system_has_zero_norm():
+    a, b, _, d = band_pass(1.0, 0.0)
+    res = hinf_norm(a, b, np.zeros((1, 2)), d)
+    assert res.norm == 0.0 and res.certified
 
 
 def test_log_grid_misses_sharp_peak_but_peak_grid_does_not():
