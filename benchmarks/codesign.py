@@ -8,10 +8,12 @@ and the result; saves benchmarks/results/codesign.json. The paper: 11 h 16 min o
 With ``--fast`` every synthesis evaluates the optimiser's plants by the fast path (``fast=True``, :mod:`lib.modalloop`;
 J_c, Z_c and success still from the dense final evaluation and searches); its checkpoint and JSON are separate
 (``runs/benchmark_codesign_fast_checkpoint.json``, ``results/codesign_fast.json``). An interrupted run resumes from its
-checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in.
+checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in. With
+``--rule matlab`` the swarm adapts by MATLAB particleswarm's rules as its code applies them (:mod:`lib.pso`), with
+``_matlab_rule`` added to the names of the checkpoint and JSON.
 
 Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--fast]
-                                   [--stop-after K] [--json PATH]
+                                   [--rule documented|matlab] [--stop-after K] [--json PATH]
      python benchmarks/codesign.py --report data/results/07_pso_checkpoint.json   # the timing of a run already made
                                                                                   # (e.g. notebook 07's main job)
 """
@@ -39,13 +41,15 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=2026)
     parser.add_argument("--checkpoint", default="", help="default runs/benchmark_codesign[_fast]_checkpoint.json")
     parser.add_argument("--fast", action="store_true", help="the fast evaluation path in every synthesis (lib.modalloop)")
+    parser.add_argument("--rule", choices=["documented", "matlab"], default="documented",
+                        help="MATLAB particleswarm's adaptive rules as documented (default) or as its code applies them (lib.pso)")
     parser.add_argument("--stop-after", type=int, default=None,
                         help="stop after this many iterations in all (resume later with the same checkpoint)")
     parser.add_argument("--report", default="", help="report the timing stored in this checkpoint instead of running")
     parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign[_fast].json;"
                         " give another path for a rerun that must not replace the stored one)")
     args = parser.parse_args()
-    suffix = "_fast" if args.fast else ""
+    suffix = ("_fast" if args.fast else "") + ("_matlab_rule" if args.rule == "matlab" else "")
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
     options = {**codesign.SYNTHESIS_OPTIONS, "fast": True} if args.fast else None
     if args.report:
@@ -58,7 +62,7 @@ def main() -> None:
         client = codesign.local_client(args.workers or None)
         n_workers = len(client.scheduler_info()["workers"])
         state = codesign.run_codesign(args.particles, args.iterations, (0.015, 0.03), args.seed, client, checkpoint,
-                                      synthesis_options=options, stop_after=args.stop_after)
+                                      synthesis_options=options, stop_after=args.stop_after, pso_rule=args.rule)
         client.close()
         particles, iterations = args.particles, state.iteration
     wall = float(sum(state.extra.get("iteration_wall_s", [np.nan])))  # over all iterations, resumed runs included
@@ -76,7 +80,7 @@ def main() -> None:
         "failed_or_penalised": sum(not str(r["status"]).startswith("ok") for r in own),
         "best": {k: best[k] for k in ("h", "f", "J_c", "Z_c", "mass")},
         "source": args.report or "this run",
-        "synthesis_algorithm": state.extra.get("algorithm"), "synthesis_options": state.extra.get("options"),
+        "synthesis_algorithm": state.extra.get("algorithm"), "synthesis_options": state.extra.get("options"), "pso_rule": state.rule,
         "complete": iterations >= args.iterations,
     }
     print(json.dumps(out, indent=2))

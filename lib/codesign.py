@@ -315,7 +315,7 @@ def _check_h_range(h_range: object, params: dict | None = None) -> None:
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
                  client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
                  m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
-                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None):
+                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None, pso_rule: str = "documented"):
     """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
 
     Parameters
@@ -338,6 +338,9 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         Receives the one-line summary of each iteration.
     synthesis_options : dict, optional
         Passed to the synthesis of every particle (default :data:`SYNTHESIS_OPTIONS`).
+    pso_rule : {"documented", "matlab"}
+        MATLAB ``particleswarm``'s adaptive rules as documented (default; the stored swarms) or as its code applies
+        them (:mod:`lib.pso`); a checkpoint is only resumed with the rule it was started with.
 
     Returns
     -------
@@ -391,4 +394,4 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         log(f"iteration {state.iteration}/{n_iterations}: best of iteration h = {100 * best['h']:.4f} cm, J_c = {best['J_c']:.4f}, "
             f"f^n = {best['f']:.5f}; swarm best f^n = {state.g_f:.5f} at h = {100 * state.g[0]:.4f} cm; {failed} failed/penalised")
 
-    return pso.run(evaluate, n_particles, [h_range[0]], [h_range[1]], n_iterations, seed, checkpoint, summary, stop_after)
+    return pso.run(evaluate, n_particles, [h_range[0]], [h_range[1]], n_iterations, seed, checkpoint, summary, stop_after, pso_rule)

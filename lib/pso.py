@@ -7,12 +7,20 @@ evaluated as one batch (so that it can be farmed out to Dask and warm-started fr
 particle), the complete state saved after every iteration (so that an interrupted run resumes to the very same
 result), and MATLAB's adaptive inertia and neighbourhood rules, for a faithful reproduction.
 
-MATLAB's rules (documented for ``particleswarm``): velocity ``v <- W v + y1 u1 (p - x) + y2 u2 (g - x)`` with
-``p`` the particle's best, ``g`` the best of a random neighbourhood of ``N`` other particles, ``u1, u2 ~ U(0,1)``
-per component, ``y1 = y2 = 1.49``; positions clipped to the bounds (velocity zeroed there); after each iteration,
-if the swarm's best improved: ``c = max(0, c - 1)``, ``N = N_min``, and ``W = 2 W`` if ``c < 2``, ``W = W / 2`` if
+MATLAB's rules, as documented for ``particleswarm`` (``rule="documented"``, the default, with which the stored
+co-design swarms were run): velocity ``v <- W v + y1 u1 (p - x) + y2 u2 (g - x)`` with ``p`` the particle's best,
+``g`` the best of a random neighbourhood of ``N`` other particles and the particle itself, ``u1, u2 ~ U(0,1)`` per
+component, ``y1 = y2 = 1.49``; positions clipped to the bounds (velocity zeroed there); after each iteration, if the
+swarm's best improved: ``c = max(0, c - 1)``, ``N = N_min``, and ``W = 2 W`` if ``c < 2``, ``W = W / 2`` if
 ``c > 5`` (W kept in [0.1, 1.1]); otherwise ``c = c + 1`` and ``N = min(N + N_min, n - 1)``. ``N_min = max(2,
 floor(0.25 n))``. Initial positions uniform in the bounds, velocities uniform in ``[-range, range]``.
+
+``rule="matlab"`` follows MATLAB's code instead, where it differs from that text (read in a public copy of
+``particleswarm.m``'s main loop): the inertia rule (``W = 2 W`` if ``c < 2``, ``W = W / 2`` if ``c > 5``) is
+applied after *every* iteration, stalled ones included, so that a stalling swarm slows down and contracts, which
+with the documented text it does only once the best improves again; and the neighbourhood is the particle itself
+plus ``N - 1`` others, ``N`` growing up to ``n``. The random streams are numpy's, so neither rule reproduces a
+MATLAB run draw for draw.
 """
 
 from __future__ import annotations
@@ -53,6 +61,8 @@ class SwarmState:
         One record per evaluated particle (whatever the objective returned, plus ``iteration`` and ``particle``).
     extra : dict
         Caller data kept with the state (e.g. the best particle's controller gain for the warm start).
+    rule : str
+        The adaptive rules: ``"documented"`` or ``"matlab"`` (see the module's description).
     """
 
     iteration: int
@@ -71,6 +81,7 @@ class SwarmState:
     seed: int
     history: list[dict] = field(default_factory=list)
     extra: dict = field(default_factory=dict)
+    rule: str = "documented"
 
     @property
     def n(self) -> int:
@@ -81,6 +92,23 @@ class SwarmState:
 SELF_ADJUSTMENT = SOCIAL_ADJUSTMENT = 1.49
 INERTIA_RANGE = (0.1, 1.1)
 MIN_NEIGHBORS_FRACTION = 0.25
+RULES = ("documented", "matlab")
+
+
+def _check_rule(rule: str) -> str:
+    if not isinstance(rule, str) or rule not in RULES:
+        raise ValueError(f"rule must be one of {RULES} (MATLAB particleswarm's documented rules or its code's), got {rule!r}")
+    return rule
+
+
+def _n_min(n: int) -> int:
+    """MATLAB's minimum neighbourhood size ``max(2, floor(0.25 n))``."""
+    return max(2, int(np.floor(MIN_NEIGHBORS_FRACTION * n)))
+
+
+def _max_neighbours(n: int, rule: str) -> int:
+    """Largest neighbourhood: ``n - 1`` others (documented rule), or all ``n`` particles, itself included (MATLAB's code)."""
+    return n if rule == "matlab" else n - 1
 
 
 def _bounds(lower: Sequence[float], upper: Sequence[float]) -> tuple[NDArray, NDArray]:
@@ -90,18 +118,18 @@ def _bounds(lower: Sequence[float], upper: Sequence[float]) -> tuple[NDArray, ND
     return lo, hi
 
 
-def init_swarm(n: int, lower: Sequence[float], upper: Sequence[float], seed: int) -> SwarmState:
-    """Initial swarm of ``n`` particles (not evaluated yet)."""
+def init_swarm(n: int, lower: Sequence[float], upper: Sequence[float], seed: int, rule: str = "documented") -> SwarmState:
+    """Initial swarm of ``n`` particles (not evaluated yet), adapted by ``rule`` (``"documented"`` or ``"matlab"``)."""
     check_option("n (swarm size)", n, 2, integer=True)
     check_option("seed", seed, 0, integer=True)
+    _check_rule(rule)
     lo, hi = _bounds(lower, upper)
     rng = np.random.default_rng(seed)
     x = lo + (hi - lo) * rng.random((n, lo.size))
     span = hi - lo
     v = span * (2 * rng.random((n, lo.size)) - 1)
-    n_min = max(2, int(np.floor(MIN_NEIGHBORS_FRACTION * n)))
-    return SwarmState(0, x, v, x.copy(), np.full(n, np.inf), x[0].copy(), np.inf, INERTIA_RANGE[1], 0, min(n_min, n - 1),
-                      rng.bit_generator.state, lo, hi, int(seed))
+    return SwarmState(0, x, v, x.copy(), np.full(n, np.inf), x[0].copy(), np.inf, INERTIA_RANGE[1], 0,
+                      min(_n_min(n), _max_neighbours(n, rule)), rng.bit_generator.state, lo, hi, int(seed), rule=rule)
 
 
 def _rng(state: SwarmState) -> np.random.Generator:
@@ -115,9 +143,10 @@ def step_positions(state: SwarmState) -> SwarmState:
     rng = _rng(state)
     n, d = state.x.shape
     v = np.empty_like(state.v)
+    n_others = state.neighbours - 1 if state.rule == "matlab" else state.neighbours  # MATLAB's code counts the particle
     for i in range(n):
         others = np.delete(np.arange(n), i)
-        hood = rng.choice(others, size=state.neighbours, replace=False)
+        hood = rng.choice(others, size=n_others, replace=False)
         best = hood[np.argmin(state.p_f[hood])]
         g_local = state.p[best] if state.p_f[best] < state.p_f[i] else state.p[i]
         u1, u2 = rng.random(d), rng.random(d)
@@ -140,19 +169,20 @@ def update_bests(state: SwarmState, values: Sequence[float]) -> bool:
     state.p[better], state.p_f[better] = state.x[better], f[better]
     i = int(np.argmin(state.p_f))
     improved = state.p_f[i] < state.g_f
-    n_min = max(2, int(np.floor(MIN_NEIGHBORS_FRACTION * state.n)))
+    n_min, n_max = _n_min(state.n), _max_neighbours(state.n, state.rule)
     if improved:
         state.g, state.g_f = state.p[i].copy(), float(state.p_f[i])
         state.counter = max(0, state.counter - 1)
-        state.neighbours = min(n_min, state.n - 1)
+        state.neighbours = min(n_min, n_max)
+    else:
+        state.counter += 1
+        state.neighbours = min(state.neighbours + n_min, n_max)
+    if improved or state.rule == "matlab":  # the documented text adapts W on improvement only, MATLAB's code always
         if state.counter < 2:
             state.inertia *= 2.0
         elif state.counter > 5:
             state.inertia /= 2.0
         state.inertia = float(np.clip(state.inertia, *INERTIA_RANGE))
-    else:
-        state.counter += 1
-        state.neighbours = min(state.neighbours + n_min, state.n - 1)
     state.iteration += 1
     return bool(improved)
 
@@ -168,7 +198,8 @@ def save_state(state: SwarmState, path: str | Path) -> Path:
 
 
 def load_state(path: str | Path) -> SwarmState:
-    """Read a state written by :func:`save_state` (non-finite values in the history restored as floats)."""
+    """Read a state written by :func:`save_state` (non-finite values in the history restored as floats; a checkpoint
+    written before the rules were selectable has the documented ones)."""
     from .results import from_jsonable
 
     d = json.loads(Path(path).read_text())
@@ -178,12 +209,12 @@ def load_state(path: str | Path) -> SwarmState:
     rng["state"] = {k: int(v) for k, v in rng["state"].items()}
     return SwarmState(int(d["iteration"]), arr("x"), arr("v"), arr("p"), p_f, arr("g"), np.inf if d["g_f"] is None else float(d["g_f"]),
                       float(d["inertia"]), int(d["counter"]), int(d["neighbours"]), rng, arr("lower"), arr("upper"), int(d["seed"]),
-                      from_jsonable(d["history"]), from_jsonable(d["extra"]))
+                      from_jsonable(d["history"]), from_jsonable(d["extra"]), _check_rule(d.get("rule", "documented")))
 
 
 def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Sequence[float], upper: Sequence[float],
         iterations: int, seed: int = 0, checkpoint: str | Path | None = None, on_iteration: Callable[[SwarmState], None] | None = None,
-        stop_after: int | None = None) -> SwarmState:
+        stop_after: int | None = None, rule: str = "documented") -> SwarmState:
     """Run (or resume) a particle swarm.
 
     Parameters
@@ -201,27 +232,36 @@ def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Se
         Called with the state after every iteration (e.g. to print a summary).
     stop_after : int, optional
         Stop (as if interrupted) once this many iterations are complete; for tests of the resume.
+    rule : {"documented", "matlab"}
+        MATLAB ``particleswarm``'s adaptive rules as its documentation states them (default) or as its code applies
+        them (see the module's description).
 
     Raises
     ------
     TypeError, ValueError
         For a non-integer or out-of-range ``n`` (>= 2), ``iterations`` (>= 1), ``seed`` (>= 0) or ``stop_after``
-        (>= 0), or bounds that are not finite with ``lower < upper``, before anything is evaluated.
+        (>= 0), an unknown ``rule``, or bounds that are not finite with ``lower < upper``, before anything is
+        evaluated; for a checkpoint of another run (size, seed, bounds or rule) or with more completed iterations than
+        ``iterations``.
     """
     check_option("n (swarm size)", n, 2, integer=True)
     check_option("iterations", iterations, 1, integer=True)
     check_option("seed", seed, 0, integer=True)
     if stop_after is not None:
         check_option("stop_after", stop_after, 0, integer=True)
-    _bounds(lower, upper)
+    _check_rule(rule)
+    lo, hi = _bounds(lower, upper)
     if checkpoint is not None and Path(checkpoint).exists():
         state = load_state(checkpoint)
-        lo, hi = _bounds(lower, upper)
-        if state.n != n or state.seed != seed or not (np.allclose(state.lower, lo) and np.allclose(state.upper, hi)):
+        same_bounds = np.array_equal(state.lower, lo) and np.array_equal(state.upper, hi)
+        if state.n != n or state.seed != seed or not same_bounds or state.rule != rule:
             raise ValueError(f"checkpoint {checkpoint} is from another run (n={state.n}, seed={state.seed}, bounds "
-                             f"[{state.lower}, {state.upper}]): delete it or choose another results folder")
+                             f"[{state.lower}, {state.upper}], rule {state.rule!r}): delete it or choose another results folder")
+        if state.iteration > iterations:
+            raise ValueError(f"checkpoint {checkpoint} holds {state.iteration} completed iterations, more than the "
+                             f"{iterations} asked: ask for {state.iteration} or more, or choose another results folder")
     else:
-        state = init_swarm(n, lower, upper, seed)
+        state = init_swarm(n, lower, upper, seed, rule)
     while state.iteration < iterations:
         if stop_after is not None and state.iteration >= stop_after:
             break

@@ -1,6 +1,8 @@
 """Particle swarm: convergence on a known minimum, MATLAB's adaptive rules, reproducibility, resume from a checkpoint,
 and the same result through Dask with 1 and 2 workers; the co-design objective's penalty and failure handling."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -19,18 +21,70 @@ def test_finds_the_minimum_of_a_known_function():
     assert abs(state.g[0] - grid[np.argmin(f)]) < 1e-2
 
 
-def test_reproducible_and_resumable(tmp_path):
-    a = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7)
-    b = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7)
+@pytest.mark.parametrize("rule", pso.RULES)
+def test_reproducible_and_resumable(tmp_path, rule):
+    a = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, rule=rule)
+    b = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, rule=rule)
     assert a.history == b.history
     ck = tmp_path / "state.json"
-    part = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck, stop_after=3)
+    part = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck, stop_after=3, rule=rule)
     assert part.iteration == 3 and ck.exists()
-    resumed = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck)
+    resumed = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck, rule=rule)
     assert resumed.iteration == 8
     assert resumed.history == a.history and resumed.g_f == a.g_f and np.array_equal(resumed.x, a.x)
+    assert resumed.inertia == a.inertia and resumed.neighbours == a.neighbours and resumed.rule == rule
     with pytest.raises(ValueError, match="another run"):
-        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=8, checkpoint=ck)
+        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=8, checkpoint=ck, rule=rule)
+    other = "matlab" if rule == "documented" else "documented"
+    with pytest.raises(ValueError, match="another run.*rule"):
+        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=8, seed=7, checkpoint=ck, rule=other)
+    with pytest.raises(ValueError, match="another run"):  # bounds must match exactly, not to np.allclose's 1e-5
+        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0 + 2e-7], iterations=8, seed=7, checkpoint=ck, rule=rule)
+    with pytest.raises(ValueError, match="8 completed iterations, more than the 5 asked"):
+        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=5, seed=7, checkpoint=ck, rule=rule)
+
+
+def test_checkpoint_without_a_rule_resumes_with_the_documented_one(tmp_path):
+    ck = tmp_path / "state.json"
+    pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=4, seed=7, checkpoint=ck, stop_after=2)
+    payload = json.loads(ck.read_text())
+    del payload["rule"]  # as written before the rules were selectable (the stored co-design swarms)
+    ck.write_text(json.dumps(payload))
+    assert pso.load_state(ck).rule == "documented"
+    resumed = pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=4, seed=7, checkpoint=ck)
+    assert resumed.history == pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=4, seed=7).history
+    with pytest.raises(ValueError, match="rule must be one of"):
+        pso.run(quadratic, n=6, lower=[0.0], upper=[1.0], iterations=4, seed=7, rule="MATLAB")
+
+
+def test_matlab_code_rules_adapt_the_inertia_after_every_iteration():
+    """MATLAB's code (not its documentation's text): W adapts after stalled iterations too, N counts the particle
+    itself and grows to n."""
+    state = pso.init_swarm(24, [0.0], [1.0], seed=0, rule="matlab")
+    assert state.inertia == 1.1 and state.neighbours == 6
+    pso.update_bests(state, np.arange(24.0))
+    expected_w = [1.1, 1.1, 1.1, 1.1, 1.1, 0.55, 0.275]  # c = 1 (< 2: doubled, clipped), 2-5 (kept), 6 and 7 (> 5: halved)
+    expected_n = [12, 18, 24, 24, 24, 24, 24]
+    for w, n_hood in zip(expected_w, expected_n):
+        pso.update_bests(state, np.full(24, 100.0))
+        assert np.isclose(state.inertia, w) and state.neighbours == n_hood
+    pso.update_bests(state, np.r_[-1.0, np.full(23, 100.0)])  # improvement: c = 6 > 5, halved again; N back to N_min
+    assert state.counter == 6 and np.isclose(state.inertia, 0.1375) and state.neighbours == 6
+    for _ in range(3):
+        pso.update_bests(state, np.full(24, 100.0))
+    assert state.inertia == pso.INERTIA_RANGE[0]  # halved to below 0.1, clipped
+    pso.step_positions(state)  # a neighbourhood of all 24 particles: the particle and its 23 others
+
+
+def test_only_the_matlab_code_rules_slow_a_stalled_swarm():
+    """On a flat objective the best never improves after the first evaluation: with the documented text W stays at
+    its maximum and the swarm keeps its spread; with MATLAB's code W falls to its minimum."""
+    def flat(x, state):
+        return [{"f": 1.0} for _ in x]
+
+    runs = {rule: pso.run(flat, n=8, lower=[0.0], upper=[1.0], iterations=12, seed=3, rule=rule) for rule in pso.RULES}
+    assert runs["documented"].inertia == 1.1 and runs["matlab"].inertia == 0.1
+    assert runs["matlab"].counter == runs["documented"].counter == 11
 
 
 def test_matlab_adaptive_rules():
