@@ -33,6 +33,11 @@ from _machine import machine_info  # noqa: E402
 from lib import codesign  # noqa: E402
 
 
+def _suffix(fast: bool, rule: str) -> str:
+    """Name suffix of the checkpoint and JSON of a run by the fast path and/or MATLAB's coded swarm rules."""
+    return ("_fast" if fast else "") + ("_matlab_rule" if rule == "matlab" else "")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--particles", type=int, default=24)
@@ -49,13 +54,14 @@ def main() -> None:
     parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign[_fast].json;"
                         " give another path for a rerun that must not replace the stored one)")
     args = parser.parse_args()
-    suffix = ("_fast" if args.fast else "") + ("_matlab_rule" if args.rule == "matlab" else "")
+    suffix = _suffix(args.fast, args.rule)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
     options = {**codesign.SYNTHESIS_OPTIONS, "fast": True} if args.fast else None
     if args.report:
         from lib import pso
 
         state = pso.load_state(args.report)
+        suffix = _suffix(bool((state.extra.get("options") or {}).get("fast")), state.rule)  # the run's, not the flags'
         n_workers = os.cpu_count()
         particles, iterations = len(state.x), state.iteration
     else:

@@ -177,10 +177,15 @@ def hinf_norm(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, rtol: floa
         Real state-space matrices, shapes (n, n), (n, m), (p, n), (p, m); A must be stable.
     rtol : float
         ``0 < rtol < 1``; certified means ``norm <= ||G||_inf <= (1 + rtol) norm`` (in practice
-        much better: each new bound is refined to a local maximum).
+        much better: each new bound is refined to a local maximum), shown by a Hamiltonian test whose
+        crossings of ``gamma = (1 + rtol) norm`` come in pairs with none of the intervals between them
+        above gamma (an odd count means one was missed, near w = 0 or at very high w: the open ends
+        are then searched on log grids, and the result is not certified unless a later test passes).
     omega_hint : array_like, optional
         Frequencies [rad/s] added to the initial lower bound (DC, infinity, ``|lambda|`` and
-        ``Im lambda`` of the poles with damping < 0.5, refined around the 3 best poles).
+        ``Im lambda`` of the poles with damping < 0.5, refined around the 3 best poles; if the
+        bound is still at DC or infinity, a log grid from a decade below the slowest pole to a
+        decade above the fastest, refined around its best point).
     max_iter : int
         Maximum number of Hamiltonian eigenvalue problems (each O((2n)^3)); if reached, the
         result has ``certified=False`` and ``norm`` is only a lower bound.
@@ -218,9 +223,9 @@ def hinf_norm(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, rtol: floa
         # the bound is not left at the DC or high-frequency gain, where the Hamiltonian's crossings near w = 0 or
         # at very high w are ill-conditioned and can be missed
         w_lb, lb = max([(w_lb, lb), _grid_max(sys, _open_band(sys.poles))], key=lambda t: t[1])
-    if lb == 0:
-        zero = not (np.any(sys.b) and np.any(sys.c))  # G = D = 0 exactly; otherwise G vanished on every point tried
-        return HinfResult(0.0, 0.0, 0, zero)
+    if lb == 0:  # D = 0; G(jw) = 0 at n + 1 frequencies means G = 0 (each entry's numerator has degree < n)
+        w_zero = np.geomspace(1e-3, 1e3, sys.poles.size + 1) * max(float(np.abs(sys.poles).max()), 1.0)
+        return HinfResult(0.0, 0.0, 0, not np.any(_sigma(sys, w_zero)))
     for it in range(1, int(max_iter) + 1):
         gamma = (1 + rtol) * lb
         cross = _crossings(sys, gamma)

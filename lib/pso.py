@@ -227,7 +227,7 @@ def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Se
         Swarm size, bounds, number of iterations (the initial swarm counts as the first), random seed.
     checkpoint : path, optional
         JSON file written after every iteration; if it exists when the run starts, the run resumes from it
-        (its bounds and seed must match).
+        (its swarm size, bounds, seed and rule must match).
     on_iteration : callable, optional
         Called with the state after every iteration (e.g. to print a summary).
     stop_after : int, optional

@@ -162,6 +162,8 @@ def test_zero_system_has_zero_norm():
     a, b, _, d = band_pass(1.0, 0.0)
     res = hinf_norm(a, b, np.zeros((1, 2)), d)
     assert res.norm == 0.0 and res.certified
+    res = hinf_norm(a, np.array([[1.0], [0.0]]), np.array([[0.0, 1.0]]), d)  # B, C nonzero, G = 0 (uncontrollable)
+    assert res.norm == 0.0 and res.certified
 
 
 def test_log_grid_misses_sharp_peak_but_peak_grid_does_not():
