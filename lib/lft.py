@@ -105,11 +105,20 @@ def _delta_values(params: Mapping[str, Parameter], values: Mapping[str, float], 
 
 
 def _ss(a, b, c, d):
+    """The four matrices as 2-D float arrays, their shapes checked (only empty B or C are reshaped)."""
     a = np.atleast_2d(np.asarray(a, float)) if np.size(a) else np.zeros((0, 0))
     d = np.atleast_2d(np.asarray(d, float))
     n = a.shape[0]
-    b = np.asarray(b, float).reshape(n, d.shape[1])
-    c = np.asarray(c, float).reshape(d.shape[0], n)
+    if a.shape != (n, n):
+        raise ValueError(f"A must be square, got shape {a.shape}")
+    b, c = np.asarray(b, float), np.asarray(c, float)
+    b = b.reshape(n, d.shape[1]) if b.size == 0 else b
+    c = c.reshape(d.shape[0], n) if c.size == 0 else c
+    if not all(np.all(np.isfinite(x)) for x in (a, b, c, d)):
+        raise ValueError("A, B, C and D must be finite (no NaN or inf)")
+    if b.shape != (n, d.shape[1]) or c.shape != (d.shape[0], n):
+        raise ValueError(f"with {n} states and D of shape {d.shape}, B must be {(n, d.shape[1])} and C {(d.shape[0], n)}; "
+                         f"got B {b.shape} and C {c.shape}")
     return a, b, c, d
 
 
@@ -262,12 +271,14 @@ class LFT:
         return LFT.constant(x)
 
     def __add__(self, other) -> "LFT":
+        """Sum; a certain scalar ``c`` added to a square LFT means ``c I`` (as ``L + 3.0`` in the models)."""
         other = self._as_lft(other)
         if other.shape != self.shape:
-            if other.shape == (1, 1) and other.nstates == 0 and other.n_delta == 0:
-                other = LFT.constant(other.d[0, 0] * np.eye(*self.shape))
-            else:
-                raise ValueError(f"cannot add {self.shape} and {other.shape}")
+            scalar = [x for x in (self, other) if x.shape == (1, 1) and x.nstates == 0 and x.n_delta == 0]
+            square = other if scalar and scalar[0] is self else self
+            if not scalar or square.shape[0] != square.shape[1]:
+                raise ValueError(f"cannot add {self.shape} and {other.shape} (a certain scalar adds as c I to a square LFT only)")
+            return square + LFT.constant(scalar[0].d[0, 0] * np.eye(square.shape[0]))
         ny, nu = self.shape
         z = np.zeros((2 * nu, 2 * ny))
         e = np.vstack([np.eye(nu), np.eye(nu)])
@@ -314,7 +325,12 @@ class LFT:
             return self._scaled(self, o)
         return self @ o
 
-    __rmul__ = __mul__  # a scalar LFT commutes with matrices
+    def __rmul__(self, other) -> "LFT":
+        """``other * self``: as :meth:`__mul__` when either side is a scalar (it commutes), else the product ``other @ self``."""
+        o = self._as_lft(other)
+        if np.isscalar(other) or o.shape == (1, 1) or self.shape == (1, 1):
+            return self * other
+        return o @ self
 
     @classmethod
     def _scaled(cls, mat: "LFT", scalar: "LFT") -> "LFT":
@@ -423,8 +439,9 @@ class LFT:
         return self._interconnect([self, k_lft], kk, e, f, np.zeros((nz, nw)))
 
     def star(self, other, n_inner_self: int, n_inner_other: int) -> "LFT":
-        """Redheffer star product: the last ``n_inner_self`` io channels of ``self`` (outputs and inputs)
-        meet the first ``n_inner_other`` io channels of ``other`` (inputs and outputs)."""
+        """Redheffer star product (as MATLAB's ``starp``): the last ``n_inner_self`` io outputs of ``self`` feed the first
+        ``n_inner_self`` io inputs of ``other``, whose first ``n_inner_other`` io outputs feed the last ``n_inner_other``
+        io inputs of ``self``."""
         other = self._as_lft(other)
         ny1, nu1 = self.shape
         ny2, nu2 = other.shape
@@ -460,7 +477,10 @@ class LFT:
         e[ext_in, np.arange(len(ext_in))] = 1.0
         f = np.zeros((len(ext_out), n_out))
         f[np.arange(len(ext_out)), ext_out] = 1.0
-        a, b, c, d = close_static(self.a, self.b, self.c, self.d, k, e, f, np.zeros((len(ext_out), len(ext_in))))
+        try:
+            a, b, c, d = close_static(self.a, self.b, self.c, self.d, k, e, f, np.zeros((len(ext_out), len(ext_in))))
+        except ValueError as exc:
+            raise ValueError(f"the LFT is ill-posed at the normalised values {deltas}: I - M11 Delta is singular ({exc})") from None
         return LFT(a, b, c, d, [self.blocks[i] for i in keep], {n: p for n, p in self.params.items() if n not in deltas})
 
     def evaluate(self, values: Mapping[str, float] | None = None, normalized: bool = False) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -468,7 +488,7 @@ class LFT:
         values = dict(values or {})
         for name, p in self.params.items():
             if name not in values:
-                values[name] = 0.0 if normalized else p.nominal
+                values[name] = p.to_delta(p.nominal) if normalized else p.nominal
         out = self.substitute(values, normalized)
         return out.a, out.b, out.c, out.d
 
@@ -480,8 +500,13 @@ class LFT:
             return [dict(zip(names, row)) for row in rng.uniform(-1, 1, (n, len(names)))]
         # distinct vertices of the box (all of them if n >= 2^k)
         k = len(names)
-        picks = rng.choice(2**k, size=min(n, 2**k), replace=False)
-        return [{nm: (1.0 if (v >> i) & 1 else -1.0) for i, nm in enumerate(names)} for v in picks]
+        if k < 30:
+            picks = rng.choice(2**k, size=min(n, 2**k), replace=False)
+            return [{nm: (1.0 if (v >> i) & 1 else -1.0) for i, nm in enumerate(names)} for v in picks]
+        rows: dict[tuple, None] = {}  # 2^k too large to enumerate: random sign vectors, duplicates dropped
+        while len(rows) < n:
+            rows.setdefault(tuple(rng.choice([-1.0, 1.0], k)), None)
+        return [dict(zip(names, row)) for row in rows]
 
     def freqresp(self, omega: ArrayLike, values: Mapping[str, float] | None = None, normalized: bool = False) -> NDArray:
         """Frequency response ``(n_out, n_in, n_w)`` at the given parameter values (nominal otherwise)."""

@@ -101,3 +101,41 @@ def test_singular_inverse_and_ill_posed_feedback_raise():
         LFT.param(P).evaluate({"z": 1.0})
     with pytest.raises(ValueError, match="outside"):
         LFT.param(P).evaluate({"m": 2000.0})
+
+
+def test_right_multiplication_by_a_matrix_is_the_matrix_product():
+    a = np.array([[1.0, 2.0], [0.0, 1.0]])
+    sym = LFT.param(P) * np.array([[1.0, 0.5], [0.5, 1.0]])
+    value = sym.evaluate({"m": 700.0})[3]
+    np.testing.assert_allclose((a * sym).evaluate({"m": 700.0})[3], a @ value, rtol=1e-13)  # not value @ a
+    np.testing.assert_allclose((np.ones((3, 2)) * sym).evaluate({"m": 700.0})[3], np.ones((3, 2)) @ value, rtol=1e-13)
+    np.testing.assert_allclose((2.0 * sym).evaluate({"m": 700.0})[3], 2.0 * value, rtol=1e-13)
+
+
+def test_scalar_sum_is_symmetric_and_square_only():
+    sym = LFT.param(P) * np.array([[1.0, 0.5], [0.5, 1.0]])
+    value = sym.evaluate({"m": 900.0})[3]
+    for expr, expected in ((3.0 - sym, 3.0 * np.eye(2) - value), (LFT.constant(3.0) + sym, 3.0 * np.eye(2) + value),
+                           (sym + 3.0, value + 3.0 * np.eye(2))):
+        np.testing.assert_allclose(expr.evaluate({"m": 900.0})[3], expected, rtol=1e-13)
+    with pytest.raises(ValueError, match="square"):
+        LFT.constant(np.ones((2, 3))) + 1.0
+
+
+def test_normalised_evaluation_defaults_to_the_nominal_not_the_centre():
+    h = Parameter("h", 0.03, 0.015, 0.03)  # nominal at the upper bound, as the tunable section side
+    g = LFT.param(h) + LFT.param(Q)
+    assert g.evaluate({})[3][0, 0] == pytest.approx(0.03)
+    assert g.evaluate({}, normalized=True)[3][0, 0] == pytest.approx(0.03)
+
+
+def test_bad_matrices_and_ill_posed_substitution_name_the_cause():
+    with pytest.raises(ValueError, match="B must be"):
+        LFT.from_ss(np.eye(3), np.ones((2, 3)), np.ones((3, 2)), np.zeros((2, 2)))  # B and C transposed: same sizes
+    with pytest.raises(ValueError, match="square"):
+        LFT.from_ss(np.ones((2, 3)), np.ones((2, 1)), np.ones((1, 2)), 0.0)
+    with pytest.raises(ValueError, match="finite"):
+        LFT.constant([[np.nan]])
+    bad = LFT(np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((2, 0)), [[2.0, 1.0], [1.0, 0.0]], ["q"], {"q": Q})
+    with pytest.raises(ValueError, match="ill-posed at"):
+        bad.substitute({"q": 0.5}, normalized=True)  # 1 - 2 * 0.5 = 0
