@@ -59,7 +59,10 @@ class LoopSettings:
     Attributes
     ----------
     omega_acs, xi_acs : float
-        ACS pole frequency [rad/s] and damping for the rigid spacecraft (0.1, 0.7).
+        ACS pole frequency [rad/s] and damping for the rigid spacecraft (0.1, 0.7), placed axis by axis from the
+        diagonal of the inertia at P1 as the paper does; the centre of mass is not at P1 and the inertia has products,
+        so the rigid closed-loop poles are near, not at, these values (0.0985-0.104 rad/s, damping 0.69-0.73 at
+        2.139 cm).
     omega_pma, xi_pma : float
         PMA filter ``s / (s^2 + 2 xi w s + w^2)``: frequency [rad/s] (0.5) and damping (the
         paper omits it; 0.7 by default).
@@ -100,7 +103,7 @@ class LoopSettings:
         """Settings from ``data/spacecraft/parameters.json`` (``closed_loop`` and ``choices``), then ``overrides``."""
         from .spacecraft import load_parameters
 
-        p = params or load_parameters()
+        p = load_parameters() if params is None else params
         cl, ch = p["closed_loop"], p["choices"]
         base = {f.name: cl[f.name] for f in fields(cls) if f.name in cl}
         base.update(xi_pma=ch.get("xi_pma", cls.xi_pma), effort=ch.get("effort", cls.effort))
@@ -161,8 +164,10 @@ class GeneralizedPlant:
         Rank of the rigid part ``G_0`` of the position-level outputs (3 for a free spacecraft).
     dropped : dict
         Relative sizes of what the realisation leaves out: ``"rank"`` (the singular values of
-        ``G_0`` below the rank threshold over the largest), ``"g1"`` (``||G_1|| / ||G_0||`` [s]: 1e-14 on ``G_r_low``,
-        a residualisation residue of about 1e-7 on ``G_r``) and, for the transmitted effort, ``"stroke_feedthrough"``.
+        ``G_0`` below the rank threshold over the largest), ``"g1"`` (``||G_1|| / ||G_0||`` [s]; measured at 1.5, 2.139 and
+        3 cm: about 1e-10 s on ``G_r_low`` and a residualisation residue of 1.1e-4 to 2.9e-4 s on ``G_r``, which shifts
+        ``G_r``'s transfers by 1e-5 to 2e-4 relative from a naive build with integrators) and, for the transmitted
+        effort, ``"stroke_feedthrough"``.
     settings : LoopSettings
     """
 
@@ -270,8 +275,8 @@ class GeneralizedPlant:
 
 
 def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, inertia_p1: ArrayLike,
-                      settings: LoopSettings | None = None, n_delta: int = 0, pma_stiffness: float = 10.0,
-                      pma_damping: float = 1.4, rank_rtol: float = 1e-8, min_pole: float = 1e-3) -> GeneralizedPlant:
+                      settings: LoopSettings | None = None, n_delta: int = 0, pma_stiffness: float | None = None,
+                      pma_damping: float | None = None, rank_rtol: float = 1e-8, min_pole: float = 1e-3) -> GeneralizedPlant:
     """Build the generalized plant ``P`` from the open-loop acceleration model.
 
     Parameters
@@ -286,10 +291,11 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
         Defaults: :meth:`LoopSettings.from_parameters`.
     n_delta : int
         Number of Delta channels first in the model's inputs and outputs (kept open in P).
-    pma_stiffness, pma_damping : float
-        PMA spring k [N/m] and damper d [N s/m], for ``settings.effort = "transmitted"``.
+    pma_stiffness, pma_damping : float, optional
+        PMA spring k [N/m] and damper d [N s/m], for ``settings.effort = "transmitted"`` (default: the ``pma``
+        entry of ``data/spacecraft/parameters.json``, 10 and 1.4).
     rank_rtol : float
-        Singular values of ``G_0`` below ``rank_rtol`` times the largest are treated as zero.
+        Singular values of ``G_0`` below ``rank_rtol`` times the largest are treated as zero (in (0, 1)).
     min_pole : float
         Smallest accepted pole modulus of A [rad/s]; 0 skips the check (an eigenvalue computation), for callers
         that build many plants from one checked model.
@@ -297,22 +303,34 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     Raises
     ------
     ValueError
-        If A has a pole at s = 0 (remove the spurious slow poles first), or the model does not
-        have the spacecraft's inputs and outputs.
+        If A has a pole at s = 0 (remove the spurious slow poles first), the model does not
+        have the spacecraft's inputs and outputs, or it has no rigid part (``G_0 = 0``).
     """
-    from .spacecraft import INPUTS, OUTPUTS
+    from .spacecraft import INPUTS, OUTPUTS, load_parameters
 
     settings = settings or LoopSettings.from_parameters()
     a, b, c, d = (np.asarray(m, dtype=float) for m in (a, b, c, d))
+    if isinstance(n_delta, bool) or not isinstance(n_delta, (int, np.integer)) or n_delta < 0:
+        raise ValueError(f"n_delta must be a non-negative integer (the open Delta channels), got {n_delta!r}")
+    if not 0.0 < rank_rtol < 1.0:
+        raise ValueError(f"rank_rtol must be in (0, 1), got {rank_rtol!r}")
     nd = int(n_delta)
-    if d.shape != (nd + len(OUTPUTS), nd + len(INPUTS)) or a.shape[0] != b.shape[0] or c.shape[1] != a.shape[0]:
-        raise ValueError(f"the open-loop model must have {nd} + {len(INPUTS)} inputs and {nd} + {len(OUTPUTS)} outputs, got D {d.shape}")
-    n = a.shape[0]
+    n = a.shape[0] if a.ndim == 2 else -1
+    if d.shape != (nd + len(OUTPUTS), nd + len(INPUTS)) or a.shape != (n, n) or b.shape != (n, d.shape[1]) or c.shape != (d.shape[0], n):
+        raise ValueError(f"the open-loop model must have {nd} + {len(INPUTS)} inputs and {nd} + {len(OUTPUTS)} outputs and "
+                         f"consistent A, B, C, D; got A {a.shape}, B {b.shape}, C {c.shape}, D {d.shape}")
+    transmitted = settings.effort == "transmitted"
+    if transmitted:
+        pma = load_parameters()["pma"] if pma_stiffness is None or pma_damping is None else {}
+        k_pma = float(pma["stiffness"] if pma_stiffness is None else pma_stiffness)
+        d_pma = float(pma["damping"] if pma_damping is None else pma_damping)
+        for name, value in (("pma_stiffness", k_pma), ("pma_damping", d_pma)):
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite positive number [N/m, N s/m], got {value!r}")
     lam = np.linalg.eigvals(a) if n and min_pole > 0 else np.zeros(0)
     if lam.size and np.min(np.abs(lam)) < min_pole:
         raise ValueError(f"A has a pole at |s| = {np.min(np.abs(lam)):.1e} rad/s < min_pole = {min_pole:g}: remove the spurious "
                          "slow poles first (lib.reduction.modal_reduction)")
-    transmitted = settings.effort == "transmitted"
     ins = list(range(nd)) + [nd + INPUTS.index(s) for s in ("p_SP1", "p_SP2", *(f"W_P1_{r}" for r in ROT), *EFFORTS)]
     rows = lambda names: [nd + OUTPUTS.index(s) for s in names]  # noqa: E731
     acc = list(range(nd)) + rows(MEASUREMENTS)
@@ -324,6 +342,9 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     g0 = d[np.ix_(pos, ins)] - c[pos] @ a_inv_b
     g1 = -c[pos] @ np.linalg.solve(a, a_inv_b)
     u_, sv, vt = np.linalg.svd(g0)
+    if not sv[0] > 0:
+        raise ValueError("the model has no rigid part (G_0 = D - C A^-1 B is zero on the LOS and P1 rotations): the ACS "
+                         "needs a free spacecraft model")
     r = int(np.sum(sv > rank_rtol * sv[0]))
     dropped = {"rank": float(sv[r] / sv[0]) if r < sv.size else 0.0, "g1": float(np.linalg.norm(g1, 2) / sv[0])}
     c_pos2 = np.linalg.solve(a.T, np.linalg.solve(a.T, c[pos].T)).T  # C A^-2
@@ -341,15 +362,15 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     cc[na + 5 : na + 8, :n], cc[na + 5 : na + 8, n + r :] = c_pos1[p1], u_[p1, :r]
     dd[na + 5 : na + 8] = c_pos2[p1] @ b_s
     if transmitted:
-        # stroke x and its rate x' = C_x (A x + B u): the stroke has no feedthrough in a mechanical model
-        # (a residualised model can leave a small feedthrough D_x, whose rate D_x u' is dropped: measured)
+        # stroke x = C_x x + D_x u and its rate x' = C_x (A x + B u): the stroke has no feedthrough in a mechanical
+        # model (a residualised model can leave a small D_x, kept in x; its rate D_x u' is dropped: measured)
         d_x = d[np.ix_(stroke, ins)]
         dc_x = d_x - c[stroke] @ a_inv_b
         dropped["stroke_feedthrough"] = float(np.linalg.norm(d_x, 2) / np.linalg.norm(dc_x, 2))
         if dropped["stroke_feedthrough"] > 1e-3:
             raise ValueError(f"the PMA stroke has a direct feedthrough ({dropped['stroke_feedthrough']:.1e} of its DC gain): the "
                              "transmitted force needs a model without it (reduce with a larger omega_max)")
-        cc[na + 8 : na + 12, :n] = c[stroke]
+        cc[na + 8 : na + 12, :n], dd[na + 8 : na + 12] = c[stroke], d_x
         cc[na + 12 : na + 16, :n] = c[stroke] @ a
         dd[na + 12 : na + 16] = c[stroke] @ b_s
     # Filters: F_PMA on the 4 commands, F_RPE on the 2 LOS angles.
@@ -382,8 +403,8 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     f[nd + 2 : nd + 6, o_uf : o_uf + 4] = np.eye(4) / settings.u_max
     if transmitted:
         # W~u = (u - k x - d x') / u_max
-        f[nd + 2 : nd + 6, o_x : o_x + 4] = -pma_stiffness * np.eye(4) / settings.u_max
-        f[nd + 2 : nd + 6, o_x + 4 : o_x + 8] = -pma_damping * np.eye(4) / settings.u_max
+        f[nd + 2 : nd + 6, o_x : o_x + 4] = -k_pma * np.eye(4) / settings.u_max
+        f[nd + 2 : nd + 6, o_x + 4 : o_x + 8] = -d_pma * np.eye(4) / settings.u_max
     f[nd + 6 :, o_y : o_y + 8] = np.eye(8)
     pa, pb, pc, pd = close_static(big_a, big_b, big_c, big_d, kk, e, f, np.zeros((n_reg, n_exo)))
     return GeneralizedPlant(pa, pb, pc, pd, nd, r, dropped, settings)

@@ -309,12 +309,13 @@ class ModalLoop:
         scale1, scale2 = np.abs(lam).sum(), (np.abs(lam) ** 2).sum()
         if abs(lam.sum() - tr1) > 1e-9 * scale1 or abs((lam ** 2).sum() - tr2) > 1e-9 * scale2:
             return False
-        # a root found twice (the power sums miss it if the missed one is close): sorted by imaginary part, two
-        # copies are within a few places of each other (a conjugate, same real part, is far unless nearly real)
+        # a root found twice (the power sums miss it if the missed one is close): every pair of moved poles is compared
+        # (0.2 ms for 160 poles). Near neighbours in a sort by imaginary part are not enough: real roots carry rounding
+        # imaginary parts of either sign, and other real roots can sort between two copies of one.
         moved = lam[self.coupled]
-        srt = moved[np.lexsort((moved.real, moved.imag))]
-        size = np.maximum(np.abs(srt), 1e-300)
-        return all(bool(np.all(np.abs(srt[k:] - srt[:-k]) > 1e-10 * size[k:])) for k in range(1, min(4, srt.size)))
+        dist = np.abs(moved[:, None] - moved[None, :])
+        np.fill_diagonal(dist, np.inf)
+        return bool(np.all(dist.min(axis=1, initial=np.inf) > 1e-10 * np.maximum(np.abs(moved), 1e-300)))
 
     def poles(self, gain: ArrayLike) -> NDArray[np.complex128]:
         """Closed-loop poles with the static gain [rad/s] (started from the poles of the previous call)."""

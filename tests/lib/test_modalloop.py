@@ -202,17 +202,19 @@ def test_fast_synthesis_takes_the_dense_path_decisions(model, inertia):
 
 
 def _synthetic_plant(rng: np.random.Generator, n_modes: int = 14, weak: int = 0, seen_by_first_only: int = 0,
-                     close_pair: bool = False) -> GeneralizedPlant:
+                     close_pair: bool = False, real_poles: tuple[float, ...] = ()) -> GeneralizedPlant:
     """A small generalized plant (inputs p~ 2, v 4; outputs RPE 2, effort 4, y 8) of lightly damped modes in
     2x2 blocks, with ``weak`` extra modes the measurements see at 1e-22 (unmoved by any gain), ``seen_by_first_only``
-    modes seen by the first measurement alone, optionally two modes 1e-8 apart; states randomly permuted."""
+    modes seen by the first measurement alone, optionally two modes 1e-8 apart, and ``real_poles`` [rad/s]; states
+    randomly permuted."""
     w = np.sort(rng.uniform(1.0, 300.0, n_modes + weak))
     if close_pair:
         w[1] = w[0] * (1 + 1e-8)
-    n = 2 * w.size
+    n = 2 * w.size + len(real_poles)
     a = np.zeros((n, n))
     for i, wi in enumerate(w):
         a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[0.0, 1.0], [-wi ** 2, -2e-3 * wi]]
+    a[2 * w.size:, 2 * w.size:] = np.diag(real_poles)
     b, c = rng.normal(size=(n, 6)), rng.normal(size=(14, n))
     c[6:, n - 2 * weak:] *= 1e-22
     for i in range(seen_by_first_only):
@@ -286,6 +288,25 @@ def test_checks_reject_a_close_pole_found_twice():
     twice[b], twice[np.argmin(np.abs(lam - np.conj(lam[b])))] = lam[a], np.conj(lam[a])
     assert abs(twice.sum() - lam.sum()) < 1e-9 * np.abs(lam).sum()  # below the power sums' tolerance
     assert abs((twice ** 2).sum() - (lam ** 2).sum()) < 1e-9 * (np.abs(lam) ** 2).sum()
+    assert not ml._checks_pass(k, twice)
+
+
+def test_checks_reject_a_real_pole_found_twice_with_real_poles_between():
+    """Real roots carry imaginary rounding of either sign, so in the sort by imaginary part other real roots can lie
+    between two copies of one (an independent review's case, accepted by a check of near neighbours only)."""
+    rng = np.random.default_rng(11)
+    plant = _synthetic_plant(rng, n_modes=10, real_poles=(-2.0, -2.0 - 1e-7, -3.0, -4.0, -5.0, -6.0, -7.0, -8.0))
+    ml = ModalLoop.of(plant)
+    k = 1e-9 * rng.normal(size=(4, 8))
+    lam = ml.poles(k)
+    assert ml.fallbacks == 0 and ml._checks_pass(k, lam)
+    real = np.flatnonzero(lam.imag == 0)
+    i1, i2 = (real[np.argmin(np.abs(lam[real] - x))] for x in (-2.0, -2.0 - 1e-7))
+    twice = lam.copy()
+    twice[i1], twice[i2] = lam[i1] + 1e-16j, lam[i1] - 1e-16j  # -2 twice, -2 - 1e-7 missed
+    others = [j for j in real if j not in (i1, i2)]
+    twice[others] = lam[others] + 1j * (-5e-17 + 1e-17 * np.arange(len(others)))
+    assert abs(twice.sum() - lam.sum()) < 1e-9 * np.abs(lam).sum()  # below the power sums' tolerance
     assert not ml._checks_pass(k, twice)
 
 
