@@ -44,7 +44,15 @@ SYNTHESIS_OPTIONS: dict[str, Any] = {"tol": 1e-2}
 
 
 def objective_value(mass: float, j_c: float, m0: float) -> float:
-    """The paper's nested objective ``f^n`` (penalty 10 when ``J_c > 2`` or the synthesis failed, ``J_c = inf``)."""
+    """The paper's nested objective ``f^n`` (penalty 10 when ``J_c > 2`` or the synthesis failed, ``J_c = inf`` or NaN).
+
+    ``mass`` and ``m0`` [kg] must be finite and positive, ``j_c`` non-negative (or NaN / inf for a failed synthesis).
+    """
+    for name, value in (("mass", mass), ("m0", m0)):
+        if not (isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a finite positive mass [kg], got {value!r}")
+    if j_c < 0:
+        raise ValueError(f"j_c must be a non-negative H-infinity norm (inf or NaN for a failed synthesis), got {j_c!r}")
     if not (np.isfinite(j_c) and j_c <= JC_LIMIT):
         return mass / m0 + PENALTY
     return mass / m0 + abs(TARGET_JC - j_c)
@@ -105,9 +113,9 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     out: dict[str, Any] = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
            "t_synthesis": 0.0}
     p = params or spacecraft.load_parameters()
-    out["mass_check"] = spacecraft.truss_mass(float(h), p)
-    out["mass"] = out["mass_check"]
+    out["mass"] = out["mass_check"] = np.nan
     try:
+        out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), p)  # inside: a bad h is a failed particle
         with threadpool_limits(1):
             if fail:
                 raise RuntimeError("injected failure (test)")
@@ -115,6 +123,9 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             out["t_model"] = time.perf_counter() - t0
             out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
             out["mass"] = truss_mass_from_dc(models, p)
+            if not abs(out["mass"] - out["mass_check"]) <= 1e-6 * out["mass_check"]:
+                raise RuntimeError(f"the truss mass from the DC gain, {out['mass']:.6f} kg, differs from rho h^2 L = "
+                                   f"{out['mass_check']:.6f} kg: the reduced model does not keep the rigid mass")
             t1 = time.perf_counter()
             scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
             opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
@@ -128,9 +139,9 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     except Exception as exc:  # a failed particle is penalised and logged, never fatal
         out["status"] = f"failed: {type(exc).__name__}: {exc}"
         out["traceback"] = traceback.format_exc(limit=3)
-    if out["status"] == "ok" and out["J_c"] > JC_LIMIT:
+    if out["status"] == "ok" and not out["J_c"] <= JC_LIMIT:  # NaN too
         out["status"] = "penalty: J_c > 2"
-    out["f"] = objective_value(out["mass"], out["J_c"], m0)
+    out["f"] = objective_value(out["mass"], out["J_c"], m0) if np.isfinite(out["mass"]) else np.inf
     out["t_total"] = time.perf_counter() - t0
     return out
 

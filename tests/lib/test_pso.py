@@ -167,6 +167,12 @@ def test_objective_and_failures():
     assert codesign.objective_value(50.0, np.inf, m0) == pytest.approx(50.0 / m0 + 10)
     r = codesign.evaluate_particle(0.02, fail=True)
     assert r["status"].startswith("failed: RuntimeError") and r["f"] == pytest.approx(r["mass"] / m0 + 10)
+    assert codesign.objective_value(50.0, np.nan, m0) == pytest.approx(50.0 / m0 + 10)
+    for mass, j_c, m in ((50.0, 0.1, 0.0), (np.nan, 0.1, m0), (-5.0, 0.1, m0), (50.0, -0.1, m0)):
+        with pytest.raises(ValueError, match="mass|m0|j_c"):
+            codesign.objective_value(mass, j_c, m)
+    bad = codesign.evaluate_particle(-0.02)  # never raises: a failed particle with an infinite objective
+    assert bad["status"].startswith("failed: ValueError") and bad["f"] == np.inf
     # a PSO run in which one particle fails keeps going and records it
     def evaluate(x, state):
         out = quadratic(x, state)

@@ -78,3 +78,15 @@ def test_models_at_matches_the_naive_reduction(monkeypatch):
 def test_models_at_rejects_unordered_cut_frequencies():
     with pytest.raises(ValueError, match="omega_min < omega_max < omega_spill"):
         design.models_at(0.02, omega_max=2e4)
+
+
+def test_slow_pole_check_refuses_nan_and_infinite_limits():
+    """A NaN limit let a slow pole that carries the whole response through; an infinite omega_min failed deep in an SVD."""
+    a, b, c, d = np.array([[-1e-3]]), np.array([[1.0]]), np.array([[1e-3]]), np.zeros((1, 1))  # DC gain 1, all slow
+    with pytest.raises(ValueError, match="not spurious"):
+        reduction.modal_reduction(a, b, c, d)
+    for bad in (np.nan, -1.0, np.inf):
+        with pytest.raises(ValueError, match="max_contribution"):
+            reduction.modal_reduction(a, b, c, d, max_contribution=bad)
+    with pytest.raises(ValueError, match="omega_min"):
+        reduction.split_slow(a, b, c, d, omega_min=np.inf)
