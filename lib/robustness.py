@@ -101,6 +101,19 @@ class AngleBounds:
         return self.upper / self.lower - 1.0
 
 
+
+def _runs(blocks: list[str]) -> list[tuple[str, int]]:
+    """``[(name, repetitions), ...]`` of consecutive Delta channels; each parameter must form one run (a grouped model)."""
+    runs: list[tuple[str, int]] = []
+    for name in blocks:
+        if runs and runs[-1][0] == name:
+            runs[-1] = (name, runs[-1][1] + 1)
+        else:
+            runs.append((name, 1))
+    if len({name for name, _ in runs}) != len(runs):
+        raise ValueError(f"the Delta channels of model_low must be grouped by parameter (LFT.grouped()), got {blocks}")
+    return runs
+
 def physical_deltas(model: LFT, deltas: dict[str, float]) -> dict[str, float]:
     """Physical values of normalised worst-case parameters (hub mass [kg], Iyy [kg m^2], omega1 [rad/s])."""
     return {name: model.params[name].from_delta(v) for name, v in deltas.items()}
@@ -160,8 +173,7 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
         by branch and bound over the parameter box, with at most ``bb_max_solves`` LMIs per frequency.
     """
     plant = plant_at(model_low, Scenario(theta=float(theta)), inertia_p1, settings, keep=KEEP)
-    structure = LFT(np.zeros((0, 0)), np.zeros((0, plant.n_delta)), np.zeros((plant.n_delta, 0)), np.zeros((plant.n_delta,) * 2),
-                    [b for b in model_low.blocks if b in KEEP], model_low.params).delta_structure()
+    structure = _runs([b for b in model_low.blocks if b in KEEP])  # the plant's open channels, in their order
     names = [name for name, _ in structure]
     a, b, c, d = plant.closed_loop(gain)
     if np.linalg.eigvals(a).real.max() >= 0:

@@ -288,3 +288,26 @@ def test_upper_bound_independent_of_earlier_solves():
     again = [mu.wc_gain_upper(m, sizes) for m in ms[::-1]][::-1]  # each after another solve of the same problem
     for a, b in zip(first, again):
         assert a.beta == b.beta and a.status == b.status
+
+
+@pytest.mark.parametrize("eps", [3e-4, 1e-4, 3e-5])
+def test_large_gains_are_bounded_not_declared_infeasible(eps):
+    """A well-posed LFT with a worst-case gain of 5e3 to 5e4 (at the corner (1, 1)): the solvers declared the unscaled
+    LMI infeasible (t = gain^2 against data of order 1); the retry on the performance channels divided by the corners'
+    gain bounds it, tightly (the D-G bound is exact here: two scalar blocks, attained at a corner)."""
+    m = np.array([[1 - eps, 0.3, 1], [0, 0.5, 1], [1, 1, 0.2]], complex)
+    true = np.linalg.norm(mu.lft_upper(m, (1, 1), [1.0, 1.0]), 2)
+    ub = mu.wc_gain_upper(m, (1, 1))
+    assert true <= ub.beta <= true * (1 + 1e-4), (true, ub.beta, ub.status)
+    d, g = ub.d, ub.g  # the scalings returned are those of the original m: re-certify them
+    assert mu._certify(m, (1, 1), d.copy(), g)[0] <= ub.beta**2 * (1 + 1e-9)
+
+
+def test_bad_solver_lower_bound_options_and_an_ill_posed_centre():
+    m = np.array([[0.3, 1.0], [1.0, 0.2]], complex)
+    with pytest.raises(ValueError, match="installed cvxpy solvers"):
+        mu.wc_gain_upper(m, (1,), solver="MOSEKK")  # ran Clarabel silently
+    with pytest.raises(ValueError, match="n_starts"):
+        mu.wc_gain_lower(m, (1,), [1.0], n_starts=0)  # was an IndexError
+    bb = mu.wc_gain_upper_bb(np.array([[2.0, 1.0], [1.0, 0.0]], complex), (1,), max_solves=5)  # I - 2 delta = 0 at 0.5
+    assert bb.beta == np.inf  # was a LinAlgError from recentre
