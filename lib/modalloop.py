@@ -99,6 +99,8 @@ def _symmetrise(lam: NDArray) -> NDArray:
     up, lo = np.flatnonzero(~real & (lam.imag > 0)), np.flatnonzero(~real & (lam.imag < 0))
     if up.size != lo.size:
         return lam
+    if not up.size:  # every root real
+        return np.where(real, lam.real, lam)
     dist = np.abs(lam[up][:, None] - np.conj(lam[lo])[None, :])
     partner = np.argmin(dist, axis=1)  # each upper pole's nearest conjugate, which must be nobody else's
     if (np.unique(partner).size != up.size or np.any(dist[np.arange(up.size), partner] > 1e-8 * mag[up])):

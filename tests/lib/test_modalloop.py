@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
 
-from lib import synthesis
+from lib import hinf, synthesis
 from lib.closedloop import GeneralizedPlant, LoopSettings, frequency_response
-from lib.modalloop import ModalLoop, aberth_poles, sigma_max
+from lib.modalloop import ModalLoop, _symmetrise, aberth_poles, sigma_max
 from lib.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
@@ -334,3 +334,45 @@ def test_sigma_max_closed_form_against_svd():
 def test_modal_loop_refuses_open_delta_channels(model, inertia):
     with pytest.raises(ValueError, match="Delta"):
         ModalLoop.of(plant_at(model, Scenario(), inertia, ST, keep=("tau",)))
+
+
+def _modes_plant(modes: list[tuple[float, float]], rng: np.random.Generator) -> GeneralizedPlant:
+    """A small generalized plant of the given modes ``(omega [rad/s], damping)`` in 2x2 blocks, random B and C."""
+    n = 2 * len(modes)
+    a = np.zeros((n, n))
+    for i, (w, z) in enumerate(modes):
+        a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[0.0, 1.0], [-w ** 2, -2 * z * w]]
+    return GeneralizedPlant(a, rng.normal(size=(n, 6)), rng.normal(size=(14, n)), np.zeros((14, 6)), n_delta=0, rigid_rank=0)
+
+
+def test_a_negative_passive_damping_never_lowers_the_requirement_below_stability():
+    """A passive mode with damping -1e-3 made the capped floor negative: loops unstable by eig passed as stable with
+    min_damping > 0 (an independent review's case), while min_damping = 0 rejected them."""
+    k1 = np.random.default_rng(3).normal(size=(4, 8))
+    found = 0
+    for t in np.geomspace(1e-4, 1e-1, 25):
+        for sign in (1.0, -1.0):
+            plant = _modes_plant([(10.0, -1e-3), (37.0, 1e-2)], np.random.default_rng(1))
+            k = sign * t * k1
+            unstable = plant.closed_loop_poles(k).real.max() > 0
+            found += unstable
+            for lazy in (False, True):
+                assert not (unstable and synthesis.loop_peaks(plant, k, min_damping=1e-4, lazy_cap=lazy).stable), (t, sign)
+    assert found > 10
+
+
+@pytest.mark.parametrize("omega", [3e-3, 5e3])
+def test_a_peak_outside_the_default_range_is_found(omega):
+    """A lightly damped mode below 0.01 or above 3000 rad/s: the grid is widened to it (was 97 % low at 5e3 rad/s)."""
+    plant = _modes_plant([(omega, 1e-3), (20.0, 1e-2)], np.random.default_rng(4))
+    k = np.zeros((4, 8))
+    a, b, c, d = plant.closed_loop(k)
+    sl = plant.slices()
+    exact = hinf.hinf_norm(a, b[:, sl["p"]], c[sl["rpe"]], d[sl["rpe"], sl["p"]]).norm
+    lp = synthesis.loop_peaks(plant, k)
+    assert lp.norm("rpe") == pytest.approx(exact, rel=1e-6) and lp.omega("rpe") == pytest.approx(omega, rel=1e-2)
+
+
+def test_symmetrise_with_only_real_roots():
+    lam = np.array([-1.0 + 1e-14j, -2.0, -3.0 - 1e-13j])
+    np.testing.assert_array_equal(_symmetrise(lam), [-1.0, -2.0, -3.0])  # was a ValueError (argmin of an empty array)
