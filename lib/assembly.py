@@ -61,6 +61,11 @@ def constrained_frequencies(
     unknown = [n for m in members for n in m if n not in nodes] + [n for n in clamped if n not in nodes]
     if unknown:
         raise ValueError(f"unknown node(s) {sorted(set(unknown))}; nodes are {names}")
+    unused = sorted(set(names) - {n for m in members for n in m})
+    if unused:
+        raise ValueError(f"node(s) {unused} belong to no member: their stiffness matrix would be singular; drop them")
+    if not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
+        raise ValueError("constrained_frequencies takes square sections only (Iy = Iz): it uses the default beam frames")
     free_nodes = [n for n in names if n not in clamped]
     col = {n: 6 * i for i, n in enumerate(free_nodes)}
     beams = []

@@ -343,8 +343,14 @@ class MultiPortModel:
         n_ch = sum(p.size for p in ports)
         n_x = self.a.shape[0] if self.a.size else 0
         self.a = self.a.reshape(n_x, n_x)
-        self.b = np.asarray(b, dtype=float).reshape(n_x, n_ch)
-        self.c = np.asarray(c, dtype=float).reshape(n_ch, n_x)
+        b, c = np.asarray(b, dtype=float), np.asarray(c, dtype=float)
+        self.b = b.reshape(n_x, n_ch) if b.size == 0 else b  # only an empty B or C is reshaped
+        self.c = c.reshape(n_ch, n_x) if c.size == 0 else c
+        if self.b.shape != (n_x, n_ch) or self.c.shape != (n_ch, n_x):
+            raise ValueError(f"with {n_x} states and {n_ch} channels, B must be {(n_x, n_ch)} and C {(n_ch, n_x)}; "
+                             f"got {self.b.shape} and {self.c.shape}")
+        if not all(np.all(np.isfinite(m)) for m in (self.a, self.b, self.c, self.d)):
+            raise ValueError(f"the state-space matrices of {name!r} must be finite (no NaN or inf)")
         if self.d.shape != (n_ch, n_ch):
             raise ValueError(f"D must be {n_ch}x{n_ch} for the given ports, got {self.d.shape}")
         names = [p.name for p in ports]
@@ -442,14 +448,20 @@ class MultiPortModel:
         Raises
         ------
         ValueError
-            If the port is not free, or A is singular (a model with poles at 0).
+            If the port is not free, A has poles at 0 (their modulus below 1e-10 of the largest), or the port is not
+            held (``G(0) = D - C A^-1 B`` on the block is not zero: a free body has no static compliance).
         """
         if self.port(port).kind != "free":
             raise ValueError(f"port {port!r} is {self.port(port).kind}: the compliance is defined for a free port")
         idx = self.channels(port)
-        if self.nstates == 0 or np.linalg.cond(self.a) > 1e14:
+        lam = np.abs(self.poles())
+        if self.nstates == 0 or lam.min() <= 1e-10 * lam.max():  # scale-free (cond(A) grows with the frequency span)
             raise ValueError(f"{self.name!r} has poles at s = 0: remove them (lib.reduction) before asking for a compliance")
         x = np.linalg.solve(self.a, self.b[:, idx])
+        d_blk, cab = self.d[np.ix_(idx, idx)], self.c[idx, :] @ x
+        if np.linalg.norm(d_blk - cab) > 1e-8 * max(np.linalg.norm(d_blk), np.linalg.norm(cab)):
+            raise ValueError(f"port {port!r} of {self.name!r} is not held (its DC acceleration per wrench is "
+                             f"{np.linalg.norm(d_blk - cab):.3g}, not 0): a free body has no static compliance")
         x = np.linalg.solve(self.a, x)
         x = np.linalg.solve(self.a, x)
         return -self.c[idx, :] @ x
@@ -807,7 +819,7 @@ def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Seq
             ports.append(p)
             continue
         for i, p in occ[1:]:
-            if not np.allclose(p.position, first.position, atol=atol):
+            if not np.allclose(p.position, first.position, rtol=0.0, atol=atol):
                 raise ValueError(
                     f"node {node!r} is at {first.position} in {models[occ[0][0]].name!r} but at "
                     f"{p.position} in {models[i].name!r}: express the models in one frame"

@@ -372,12 +372,16 @@ def beam(p: tuple[str, ArrayLike], c: tuple[str, ArrayLike], section: Section, n
     n_modes : int
         Ritz enrichment (see :func:`modal_data`).
     y_hint : array_like, optional
-        Direction of the beam's y axis (see :func:`lib.frames.beam_frame`).
+        Direction of the beam's y axis (see :func:`lib.frames.beam_frame`); required when ``Iy != Iz`` (the default
+        axis jumps between neighbouring beam directions, e.g. along x and 1e-9 off it, which swaps Iy and Iz).
     name : str, optional
         Model name (default ``"P-C"``).
     h_param : lib.lft.Parameter, optional
         Square-section side as an LFT parameter (scaled signals, see :func:`clamped_free_lft`).
     """
+    if y_hint is None and not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
+        raise ValueError(f"a section with Iy = {section.iy:.4g} != Iz = {section.iz:.4g} [m^4] needs y_hint (the direction "
+                         "of the beam's y axis in the common frame)")
     (pn, rp), (cn, rc) = p, c
     rp = frames.as_vector3(rp, f"position of {pn}")
     rc = frames.as_vector3(rc, f"position of {cn}")
@@ -417,9 +421,15 @@ def clamped_free_lft(length: float, section: Section, h_param, n_modes: int = 1,
     """
     from .lft import LFT
 
-    polar = np.isclose(section.torsion_constant, section.iy + section.iz)
-    sec0 = Section.square(h_param.center, section.young, section.poisson, section.density, section.damping,
-                          "polar" if polar else "exact")
+    # the torsion choice from J / (Iy + Iz), which is independent of h for a square section (both scale as h^4); an
+    # absolute tolerance would take every J below 1e-8 m^4 (h < 2.5 cm) for polar
+    ratio = section.torsion_constant / (section.iy + section.iz)
+    kinds = {"polar": 1.0, "exact": square_torsion_constant(1.0) / (2.0 / 12.0)}
+    torsion = next((k for k, r in kinds.items() if np.isclose(ratio, r, rtol=1e-9, atol=0.0)), None)
+    if torsion is None or not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
+        raise ValueError(f"clamped_free_lft needs a square section with polar (J = Iy + Iz) or exact (Saint-Venant) torsion; "
+                         f"got Iy = {section.iy:.4g}, Iz = {section.iz:.4g}, J / (Iy + Iz) = {ratio:.6g} [m^4]")
+    sec0 = Section.square(h_param.center, section.young, section.poisson, section.density, section.damping, torsion)
     md = modal_data(length, sec0, n_modes)
     a, b, cmat, d = titop_matrices(md)
     n = md.omega.size

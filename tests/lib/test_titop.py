@@ -155,3 +155,59 @@ def test_bad_length_and_basis_raise():
         titop.Section.square(-0.01)
     with pytest.raises(ValueError, match="torsion"):
         titop.Section.square(0.01, torsion="warping")
+
+
+@pytest.mark.parametrize("torsion", ["polar", "exact"])
+def test_h_lft_beam_equals_the_direct_beam_for_small_sections(torsion):
+    """clamped_free_lft took every J below 1e-8 m^4 (h < 2.5 cm) for polar: with exact torsion at h = 2 cm the
+    substituted LFT was 665 % off the direct model (an independent review); now 1e-10."""
+    from lib.lft import Parameter
+
+    h_param = Parameter("h", 0.03, 0.015, 0.03, tunable=True)
+    model = titop.clamped_free_lft(1.0, titop.Section.square(0.02, torsion=torsion), h_param)
+    h = 0.0187
+    r = h / h_param.center
+    scale = np.r_[np.full(6, 1 / r), np.full(6, r)]  # scaled signals (see clamped_free_lft)
+    w = np.logspace(0, 4.5, 60)
+    got = model.substitute({"h": h}).freqresp(w) * scale[:, None, None] * scale[None, :, None]
+    ref = titop.clamped_free(1.0, titop.Section.square(h, torsion=torsion)).freqresp(w)
+    err = np.max(np.abs(got - ref), axis=(0, 1)) / np.max(np.abs(ref), axis=(0, 1))
+    assert err.max() < 1e-8
+    rect = titop.Section(1e-4, 2e-9, 1e-9, 2e-9)
+    with pytest.raises(ValueError, match="square section"):
+        titop.clamped_free_lft(1.0, rect, h_param)
+
+
+def test_static_compliance_needs_a_held_port_not_a_small_condition_number():
+    sec = titop.Section.square(0.03)
+    for length, n in ((0.02, 4), (0.05, 8), (0.005, 1)):  # stiff, short beams: cond(A) > 1e14, no pole at 0
+        beam = titop.clamped_free(length, sec, n)
+        assert beam.static_compliance("C")[1, 1] == pytest.approx(length**3 / (3 * sec.young * sec.iz), rel=1e-6)
+    free = titop.clamped_free(1.0, sec).invert_ports("P")  # free-free: no static compliance (was a finite matrix)
+    with pytest.raises(ValueError, match="not held"):
+        free.static_compliance("C")
+
+
+def test_rectangular_sections_need_a_beam_frame_and_models_their_shapes():
+    rect = titop.Section(1e-4, 2e-9, 1e-9, 2e-9)
+    with pytest.raises(ValueError, match="needs y_hint"):
+        titop.beam(("A", [0, 0, 0]), ("B", [1, 0, 0]), rect)
+    along_x = titop.beam(("A", [0, 0, 0]), ("B", [1, 0, 0]), rect, y_hint=[0, 1, 0])
+    tilted = titop.beam(("A", [0, 0, 0]), ("B", [1, 1e-9, 0]), rect, y_hint=[0, 1, 0])
+    ref = along_x.static_compliance("B")  # a 1e-9 rad tilt changes it by 1e-9 of its size (was Iy and Iz swapped)
+    np.testing.assert_allclose(tilted.static_compliance("B"), ref, rtol=1e-6, atol=1e-8 * np.abs(ref).max())
+    m = titop.clamped_free(1.0, titop.Section.square(0.03))
+    with pytest.raises(ValueError, match="B must be"):
+        type(m)(m.a, m.b.T.copy().reshape(m.b.shape[1], m.b.shape[0]), m.c, m.d, m.ports)  # transposed, same size
+
+
+def test_connect_and_constrained_frequencies_check_their_nodes():
+    from lib import assembly, ports
+
+    sec = titop.Section.square(0.03)
+    first = titop.beam(("A", [49.0, 0, 0]), ("B", [50.0, 0, 0]), sec)
+    second = titop.beam(("B", [50.0004, 0, 0]), ("C", [51.0, 0, 0]), sec)  # B 0.4 mm apart: was accepted (rtol 1e-5)
+    with pytest.raises(ValueError, match="one frame"):
+        ports.connect([first, second])
+    with pytest.raises(ValueError, match="belong to no member"):  # was a LinAlgError deep in scipy
+        assembly.constrained_frequencies({"A": [0, 0, 0], "B": [1, 0, 0], "Z": [5, 5, 5]}, [("A", "B")], sec, ["A"])
