@@ -10,8 +10,8 @@ open-loop model ``G(s)`` (order 1324 with order-20 beams) has
   ``a_P1`` (6: [m/s^2], [rad/s^2]), and the linear and angular accelerations of N17 and N20
   along and around x and y (8).
 
-Parameters are plain numbers here (h, theta and the uncertain hub mass, hub Iyy and first
-panel frequency); their LFT form is the subject of ``lib.lft`` (next issue).
+Parameters are plain numbers (h, theta and the uncertain hub mass, hub Iyy and first panel
+frequency) or, with ``open_loop(..., uncertain=True)`` / ``tunable=True``, LFT parameters (``lib.lft``).
 """
 
 from __future__ import annotations
@@ -87,7 +87,8 @@ class OpenLoop:
     blocks : dict
         The blocks: hub, truss, panels, antenna, PMA block.
     parameters : dict
-        The values used (h, theta, hub mass and Iyy, first panel frequency, SADM k, f).
+        The values used (h, theta, hub mass and Iyy, first panel frequency, SADM k, f); None for those that are LFT
+        parameters of ``lft`` (h if tunable; theta, hub mass, Iyy and panel frequency if uncertain).
     lft : lib.lft.LFT or None
         For ``open_loop(..., uncertain=True)``: the uncertain model ``F_u(G, Delta)``
         (12 inputs, 20 outputs); ``G`` then holds its certain part, delta channels first.
@@ -96,7 +97,7 @@ class OpenLoop:
     G: ct.StateSpace
     model: MultiPortModel
     blocks: dict[str, MultiPortModel] = field(repr=False)
-    parameters: dict[str, float]
+    parameters: dict[str, float | None]
     lft: LFT | None = None
 
     def uncertain(self) -> LFT:
@@ -215,6 +216,13 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
 
     pm = p["pma"]
     turns = {"x": frames.rot_z(-np.pi / 2), "y": np.eye(3)}  # the PMA axis v = y of its frame
+    truss_ports = sorted(pt.name for pt in truss_model.ports)
+    for i, spec in enumerate(ch["pma_layout"]):  # a node the truss does not expose would be left clamped to the ground
+        if spec.get("node") not in truss_ports or spec.get("direction") not in turns:
+            raise ValueError(f"choices.pma_layout[{i}] = {spec}: the node must be one of the truss ports {truss_ports} and "
+                             f"the direction one of {sorted(turns)}")
+    if ant["node"] not in truss_ports:
+        raise ValueError(f"antenna.node {ant['node']!r} must be one of the truss ports {truss_ports}")
     pma_list = []
     for i, spec in enumerate(ch["pma_layout"], start=1):
         pos = origin + truss_nodes(tr["cube_side"])[spec["node"]]
@@ -231,8 +239,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     g = ct.ss(lft.a, lft.b, lft.c, lft.d, inputs=[f"w_{b}_{i}" for i, b in enumerate(lft.blocks)] + INPUTS,
               outputs=[f"z_{b}_{i}" for i, b in enumerate(lft.blocks)] + OUTPUTS, name="G")
     blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
-    values = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
-                  sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
+    values: dict[str, float | None] = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
+                                           sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
+    if tunable:  # the arguments given for these were not used: the model holds them as LFT parameters
+        values["h"] = None
+    if uncertain:
+        values.update(theta=None, hub_mass=None, hub_iyy=None, panel_omega1=None)
     return OpenLoop(g, model, blocks, values, lft if (uncertain or tunable) else None)
 
 

@@ -170,3 +170,21 @@ def test_rotation_lft_is_exact_and_minimal():
     hankel = np.block([[markov[i + j] for j in range(nd)] for i in range(nd)])
     sv = np.linalg.svd(hankel, compute_uv=False)
     assert nd == 16 and np.sum(sv > 1e-9 * sv[0]) == 16
+
+
+def test_a_pma_or_antenna_off_the_truss_ports_is_refused():
+    """A PMA on N18 (a truss node the truss model does not expose) was left clamped to the ground: the model built,
+    1 PMA short in mass, with no path from its force to the LOS (an independent review)."""
+    import copy
+
+    for change in ({"node": "N18"}, {"direction": "z"}):
+        p = copy.deepcopy(spacecraft.load_parameters())
+        p["choices"]["pma_layout"][0].update(change)
+        with pytest.raises(ValueError, match="pma_layout"):
+            spacecraft.open_loop(0.03, params=p)
+    p = copy.deepcopy(spacecraft.load_parameters())
+    p["antenna"]["node"] = "N18"
+    with pytest.raises(ValueError, match="antenna.node"):
+        spacecraft.open_loop(0.03, params=p)
+    ol = spacecraft.open_loop(0.02, theta=1.0, uncertain=True)
+    assert ol.parameters["theta"] is None and ol.parameters["hub_mass"] is None and ol.parameters["h"] == 0.02
