@@ -14,8 +14,11 @@ is logged; it never stops the run. Particles of an iteration are evaluated in pa
 
 from __future__ import annotations
 
+import hashlib
+import json
 import time
 import traceback
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, cast
@@ -122,10 +125,11 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             models = design.models_at(float(h), params=p)
             out["t_model"] = time.perf_counter() - t0
             out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
-            out["mass"] = truss_mass_from_dc(models, p)
-            if not abs(out["mass"] - out["mass_check"]) <= 1e-6 * out["mass_check"]:
-                raise RuntimeError(f"the truss mass from the DC gain, {out['mass']:.6f} kg, differs from rho h^2 L = "
+            mass_dc = truss_mass_from_dc(models, p)
+            if not abs(mass_dc - out["mass_check"]) <= 1e-6 * out["mass_check"]:  # (NaN fails too)
+                raise RuntimeError(f"the truss mass from the DC gain, {mass_dc:.6f} kg, differs from rho h^2 L = "
                                    f"{out['mass_check']:.6f} kg: the reduced model does not keep the rigid mass")
+            out["mass"] = mass_dc
             t1 = time.perf_counter()
             scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
             opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
@@ -141,7 +145,10 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
         out["traceback"] = traceback.format_exc(limit=3)
     if out["status"] == "ok" and not out["J_c"] <= JC_LIMIT:  # NaN too
         out["status"] = "penalty: J_c > 2"
-    out["f"] = objective_value(out["mass"], out["J_c"], m0) if np.isfinite(out["mass"]) else np.inf
+    try:
+        out["f"] = objective_value(out["mass"], out["J_c"], m0) if np.isfinite(out["mass"]) else np.inf
+    except ValueError as exc:  # e.g. a bad m0: the particle fails, the run goes on
+        out["status"], out["f"] = f"failed: {exc}", np.inf
     out["t_total"] = time.perf_counter() - t0
     return out
 
@@ -190,7 +197,8 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
                    partial_key: dict | None = None) -> list[dict]:
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
 
-    A worker that dies is retried (``retries`` times) by Dask; the results do not depend on the number of
+    A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default;
+    ``retries`` counts evaluations that raise, which :func:`evaluate_particle` never does); the results do not depend on the number of
     workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
     a bound of the range) share one evaluation: with the same warm start the result is the same.
     ``fail_particles`` injects failures (tests).
@@ -241,7 +249,11 @@ def _tag(key: tuple[float, bool]) -> str:
 
 def _read_partial(path: str | Path | None, key: dict | None) -> dict:
     """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
-    stored, key = read_keyed(path, key)
+    try:
+        stored, key = read_keyed(path, key)
+    except json.JSONDecodeError as exc:  # only a cache of finished particles: recompute them rather than stop
+        warnings.warn(f"ignoring the unreadable partial file {path} ({exc}): its particles are evaluated again", stacklevel=2)
+        stored, key = None, json.loads(json.dumps(key, default=str))
     return stored or {"key": key, "records": {}, "time_s": 0.0}
 
 
@@ -267,7 +279,8 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         number of points) evaluates only the missing points, so an interrupted grid loses at most one chunk.
     key : dict, optional
         What the records depend on (grid, settings, synthesis options and version): a cache with another key
-        is recomputed.
+        is recomputed. Default: the grid, the settings, the synthesis version and ``kwargs``. A cache whose records
+        are at other h than ``hs`` is refused whatever the key.
     chunk : int
         Evaluations between two saves (a multiple of the number of workers keeps them busy).
     **kwargs
@@ -289,22 +302,41 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     if h.ndim != 1 or not h.size or not np.all(np.isfinite(h) & (h > 0)):
         raise ValueError(f"hs must be a non-empty list of section sides in metres, all finite and > 0, got {hs!r}")
     check_option("chunk", chunk, 1, integer=True)
+    if key is None:
+        key = {"h": h.tolist(), "settings": None if settings is None else settings.__dict__, "algorithm": synthesis.ALGORITHM,
+               "kwargs": kwargs}
     stored, key = read_keyed(cache, key)
     records: list[dict | None] = [None] * len(hs)
     time_s = 0.0
     if stored is not None and len(stored.get("records", [])) == len(hs):  # resume
         records, time_s = stored["records"], float(stored.get("time_s", 0.0))
+        other = [(i, r["h"]) for i, r in enumerate(records) if r is not None and float(r["h"]) != float(h[i])]
+        if other:
+            raise ValueError(f"the grid cache {cache} holds records at other h (e.g. {other[0][1]!r} m for "
+                             f"{float(h[other[0][0]])!r} m) under the same key: pass another cache path or a key that names the grid")
     todo = [i for i, r in enumerate(records) if r is None]
     for start in range(0, len(todo), chunk):
         idx = todo[start:start + chunk]
         t0 = time.perf_counter()
         done = evaluate_swarm([hs[i] for i in idx], None, client, settings, progress=progress, **kwargs)
         time_s += time.perf_counter() - t0
-        for i, rec in zip(idx, done):
-            records[i] = rec
+        for i, rec in zip(idx, done):  # (shared_with: evaluate_swarm's index within the chunk, made the grid's)
+            records[i] = rec if "shared_with" not in rec else dict(rec, shared_with=idx[rec["shared_with"]])
         if cache is not None:
             write_json(cache, {"key": key, "records": records, "time_s": time_s})
     return cast(list[dict], records), time_s  # every record is filled by now
+
+
+def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float) -> dict:
+    """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters (a SHA-256 of their
+    JSON) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
+    digest = None if params is None else hashlib.sha256(json.dumps(params, sort_keys=True, default=str).encode()).hexdigest()
+    return {"settings": None if settings is None else settings.__dict__, "params_sha256": digest, "m0": float(m0)}
+
+
+def _normalised_options(options: dict | None) -> Any:
+    """Synthesis options as a checkpoint stores them (JSON types; None means :data:`SYNTHESIS_OPTIONS`)."""
+    return json.loads(json.dumps(SYNTHESIS_OPTIONS if options is None else options, default=str))
 
 
 def _check_h_range(h_range: object, params: dict | None = None) -> None:
@@ -365,29 +397,34 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     check_option("n_particles", n_particles, 2, integer=True)
     check_option("n_iterations", n_iterations, 1, integer=True)
     _check_h_range(h_range, params)
+    objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
+    objective = json.loads(json.dumps(_objective_key(settings, params, m0), default=str))
     if checkpoint is not None and Path(checkpoint).exists():
         extra = pso.load_state(checkpoint).extra
         found = extra.get("algorithm")
         if found != synthesis.ALGORITHM:
             raise ValueError(f"checkpoint {checkpoint} was computed by the synthesis {found!r}, not the current "
                              f"{synthesis.ALGORITHM!r}: delete it (or pass another checkpoint path) to rerun")
-        if extra.get("options") != synthesis_options:
+        if _normalised_options(extra.get("options")) != _normalised_options(synthesis_options):
             raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
                              f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
+        if "objective" in extra and extra["objective"] != objective:  # (checkpoints written before 2026-12-03 lack it)
+            raise ValueError(f"checkpoint {checkpoint} was computed for another objective (settings, parameters or m0: "
+                             f"{extra['objective']!r}, not {objective!r}): pass another checkpoint path to run")
 
     def evaluate(x: NDArray, state) -> list[dict]:
         t0 = time.perf_counter()
-        state.extra["algorithm"], state.extra["options"] = synthesis.ALGORITHM, synthesis_options
+        state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, synthesis_options, objective
         gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
         fails = [p for it, p in fail_particles if it == state.iteration]
         part = None if checkpoint is None else partial_path(checkpoint)
         key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
-               "settings": None if settings is None else settings.__dict__, "options": synthesis_options}
+               "objective": objective, "options": synthesis_options}
         recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
                               synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"),
                               partial=part, partial_key=key)
-        ok = [r for r in recs if r["gain"] is not None]
-        if ok:
+        ok = [r for r in recs if r["gain"] is not None and not str(r.get("status", "")).startswith("failed")]
+        if ok:  # (a failed synthesis's gain never becomes the warm start: the previous one is kept)
             best = min(ok, key=lambda r: r["f"])
             state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
         wall = time.perf_counter() - t0

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from lib import codesign, pso, synthesis
+from lib.closedloop import LoopSettings
 
 
 def quadratic(x, state):
@@ -229,6 +230,44 @@ def test_codesign_refuses_a_checkpoint_of_another_synthesis(tmp_path, monkeypatc
         codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)
 
 
+def test_codesign_refuses_a_checkpoint_of_another_objective_and_normalises_options(tmp_path, monkeypatch):
+    """Settings, parameters and m0 are recorded (a resume with another m0 was accepted, mixing two objectives); options
+    equal once stored as JSON (a tuple and its list, None and the default) are the same options."""
+    def fake(h, gain0=None, fail=False, **kw):
+        return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    ck = tmp_path / "state.json"
+    opts = {"tol": 1e-2, "search_thetas_deg": (0.0, 90.0, 180.0)}
+    run = dict(seed=0, checkpoint=ck, progress=False, log=lambda s: None)
+    codesign.run_codesign(2, 3, stop_after=1, synthesis_options=opts, **run)
+    codesign.run_codesign(2, 3, stop_after=2, synthesis_options={**opts, "search_thetas_deg": [0.0, 90.0, 180.0]}, **run)
+    for change in ({"m0": 100.0}, {"settings": LoopSettings.from_parameters(t_delta=0.03)}):
+        with pytest.raises(ValueError, match="another objective"):
+            codesign.run_codesign(2, 3, synthesis_options=opts, **run, **change)
+    with pytest.raises(ValueError, match="m0"):  # checked before any evaluation
+        codesign.run_codesign(2, 3, m0=-1.0, seed=0, progress=False, log=lambda s: None)
+    ck2 = tmp_path / "default.json"
+    codesign.run_codesign(2, 2, seed=0, checkpoint=ck2, progress=False, log=lambda s: None, stop_after=1)
+    codesign.run_codesign(2, 2, seed=0, checkpoint=ck2, progress=False, log=lambda s: None,
+                          synthesis_options=dict(codesign.SYNTHESIS_OPTIONS))  # None means the default options
+
+
+def test_a_failed_synthesis_never_becomes_the_warm_start(monkeypatch):
+    starts = []
+
+    def fake(h, gain0=None, fail=False, **kw):
+        starts.append(None if gain0 is None else np.asarray(gain0).tolist())
+        good = gain0 is None  # the first (cold) iteration succeeds, every warm one fails (with a gain)
+        return {"h": h, "f": h if good else h + 10, "J_c": 0.1 if good else np.inf, "scenarios": None,
+                "gain": [[1.0]] if good else [[-99.0]], "status": "ok" if good else "failed: not a valid design"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    codesign.run_codesign(2, 3, seed=0, progress=False, log=lambda s: None)
+    warm = [g for g in starts if g is not None]
+    assert len(warm) >= 2 and all(g == [[1.0]] for g in warm)  # the third iteration started from [[-99.0]], a failed gain
+
+
 def test_grid_resumes_after_an_interruption(tmp_path, monkeypatch):
     """The grid is saved after every chunk: an interrupted run loses at most its current chunk, and the resumed
     grid equals an uninterrupted one; another key recomputes everything."""
@@ -254,6 +293,23 @@ def test_grid_resumes_after_an_interruption(tmp_path, monkeypatch):
     assert again == records and len(calls) == 6  # complete: read back, nothing evaluated
     codesign.evaluate_grid(hs, cache=cache, key={**key, "settings": {"t_delta": 0.03}}, chunk=2, progress=False)
     assert len(calls) == 11  # another key: all recomputed
+
+
+def test_grid_cache_of_other_points_is_refused_and_shared_rows_are_the_grids(tmp_path, monkeypatch):
+    def fake(h, gain0=None, fail=False, **kw):
+        return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    cache = tmp_path / "grid.json"
+    codesign.evaluate_grid([0.02, 0.025], cache=cache, key={"mine": 1}, progress=False)
+    with pytest.raises(ValueError, match="other h"):  # same key, other points: was returned as the grid's records
+        codesign.evaluate_grid([0.015, 0.03], cache=cache, key={"mine": 1}, progress=False)
+    cache2 = tmp_path / "grid2.json"
+    codesign.evaluate_grid([0.02, 0.025], cache=cache2, progress=False)
+    records, _ = codesign.evaluate_grid([0.015, 0.03], cache=cache2, progress=False)  # default key names the grid
+    assert [r["h"] for r in records] == [0.015, 0.03]
+    records, _ = codesign.evaluate_grid([0.02, 0.021, 0.022, 0.023, 0.024, 0.024], chunk=4, progress=False)
+    assert records[5]["shared_with"] == 4  # was 0, an index within the second chunk
 
 
 def test_codesign_interrupted_inside_an_iteration_loses_no_finished_particle(tmp_path, monkeypatch):
