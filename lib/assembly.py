@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
 from . import frames
+from .checks import check_members
 from .titop import Section, modal_data
 
 __all__ = ["constrained_frequencies"]
@@ -58,12 +59,7 @@ def constrained_frequencies(
         Ascending natural frequencies of the constrained structure.
     """
     names = list(nodes)
-    unknown = [n for m in members for n in m if n not in nodes] + [n for n in clamped if n not in nodes]
-    if unknown:
-        raise ValueError(f"unknown node(s) {sorted(set(unknown))}; nodes are {names}")
-    unused = sorted(set(names) - {n for m in members for n in m})
-    if unused:
-        raise ValueError(f"node(s) {unused} belong to no member: their stiffness matrix would be singular; drop them")
+    check_members(nodes, members, clamped)
     if not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
         raise ValueError("constrained_frequencies takes square sections only (Iy = Iz): it uses the default beam frames")
     free_nodes = [n for n in names if n not in clamped]

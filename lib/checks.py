@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_option"]
+__all__ = ["check_option", "check_members"]
 
 
 def check_option(name: str, value: object, low: float, high: float = np.inf, integer: bool = False,
@@ -21,3 +21,18 @@ def check_option(name: str, value: object, low: float, high: float = np.inf, int
     if not inside:
         lo_b, hi_b = "(" if open_low else "[", ")" if open_high or high == np.inf else "]"
         raise ValueError(f"{name} must be {kind} in {lo_b}{low:g}, {high:g}{hi_b}, got {value!r}")
+
+
+def check_members(nodes, members, clamped=None) -> None:
+    """Raise a ValueError unless every member and clamped node is a known node, every node belongs to a member and
+    (if ``clamped`` is given) at least one node is clamped (a frame with an unused node or none clamped has a singular
+    stiffness)."""
+    names = list(nodes)
+    unknown = sorted({n for m in members for n in m if n not in nodes} | {n for n in clamped or () if n not in nodes})
+    if unknown:
+        raise ValueError(f"unknown node(s) {unknown}; nodes are {names}")
+    unused = sorted(set(names) - {n for m in members for n in m})
+    if unused:
+        raise ValueError(f"node(s) {unused} belong to no member: their stiffness matrix would be singular; drop them")
+    if clamped is not None and not len(clamped):
+        raise ValueError("clamped must name at least one node (a free-free frame has rigid modes)")

@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
 from . import frames
+from .checks import check_members
 from .titop import Section
 
 __all__ = ["FrameModel", "element_matrices", "build_frame", "FrameModes"]
@@ -170,23 +171,25 @@ def build_frame(
     """
     if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
+    check_members(nodes, members)
     node_index = {name: i for i, name in enumerate(nodes)}
     pos = [frames.as_vector3(nodes[name], f"position of {name}") for name in nodes]
-    elements: list[tuple[int, int]] = []
+    elements: list[tuple[int, int, NDArray]] = []
     for p, c in members:
         if p not in node_index or c not in node_index:
             raise ValueError(f"member ({p!r}, {c!r}) uses an unknown node; nodes are {list(nodes)}")
+        # one frame per member: from each sub-element's rounded end points the default axes could flip by 90 deg
+        rot = frames.beam_frame(pos[node_index[p]], pos[node_index[c]])
         ids = [node_index[p]]
         for j in range(1, n_elements):
             pos.append(pos[node_index[p]] + (pos[node_index[c]] - pos[node_index[p]]) * j / n_elements)
             ids.append(len(pos) - 1)
         ids.append(node_index[c])
-        elements.extend(zip(ids[:-1], ids[1:]))
+        elements.extend((i, j, rot) for i, j in zip(ids[:-1], ids[1:]))
     n = 6 * len(pos)
     kg = np.zeros((n, n))
     mg = np.zeros((n, n))
-    for i, j in elements:
-        rot = frames.beam_frame(pos[i], pos[j])
+    for i, j, rot in elements:
         k_loc, m_loc = element_matrices(float(np.linalg.norm(pos[j] - pos[i])), section, mass)
         t = linalg.block_diag(*([rot.T] * 4))
         dofs = np.r_[6 * i : 6 * i + 6, 6 * j : 6 * j + 6]

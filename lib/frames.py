@@ -142,7 +142,7 @@ def beam_frame(r_p: ArrayLike, r_c: ArrayLike, y_hint: ArrayLike | None = None) 
     ex = axis / length
     if y_hint is None:
         # Common-frame axis least aligned with the beam, made orthogonal to it.
-        hint = np.eye(3)[int(np.argmin(np.abs(ex)))]
+        hint = np.eye(3)[int(np.argmin(np.round(np.abs(ex), 12)))]  # rounding must not break a tie
         ez = np.cross(ex, hint)
         ez /= np.linalg.norm(ez)
         ey = np.cross(ez, ex)

@@ -40,8 +40,9 @@ class ModalParticipation:
     factors : ndarray, shape (n, 6)
         Participation factors at the port (sign of each row arbitrary).
     rank_one_residual : ndarray, shape (n,)
-        Second-largest / largest eigenvalue of each mode's residue matrix: small for an
-        isolated mode, O(1) for a repeated (degenerate) pair whose factors are then not unique.
+        Second-largest / largest eigenvalue of the summed residue matrices of the modes at the same frequency as
+        this one (to 1e-6 relative): about 0 for an isolated mode, O(1) for a repeated (degenerate) pair whose
+        factors are then not unique (one mode's residue alone is rank one by construction).
     """
 
     omega: NDArray[np.float64]
@@ -72,7 +73,7 @@ def participation_factors(model: MultiPortModel, port: str, n_modes: int = 10, o
         raise ValueError(f"{model.name!r} has {upper.size} oscillating modes, fewer than n_modes = {n_modes}")
     upper = upper[np.argsort(np.abs(lam[upper]))][:n_modes]
     left = linalg.solve(vr, red.b[:, idx])  # rows: modal input vectors
-    omega, zeta, facs, resid = [], [], [], []
+    omega, zeta, facs, ltls = [], [], [], []
     for k in upper:
         p = lam[k]
         residue = np.outer(red.c[idx, :] @ vr[:, k], left[k])
@@ -80,10 +81,15 @@ def participation_factors(model: MultiPortModel, port: str, n_modes: int = 10, o
         ltl = 0.5 * (ltl + ltl.T)
         ev, vec = np.linalg.eigh(ltl)
         facs.append(np.sqrt(max(ev[-1], 0.0)) * vec[:, -1])
-        resid.append(abs(ev[-2]) / max(abs(ev[-1]), 1e-300))
+        ltls.append(ltl)
         omega.append(abs(p))
         zeta.append(-p.real / abs(p))
-    return ModalParticipation(np.array(omega), np.array(zeta), np.array(facs), np.array(resid))
+    w = np.array(omega)
+    resid = []
+    for wk in w:  # a repeated mode: the residues of its group add up to a matrix of rank > 1
+        ev = np.linalg.eigvalsh(sum(m for m, wj in zip(ltls, w) if abs(wj - wk) <= 1e-6 * wk))
+        resid.append(abs(ev[-2]) / max(abs(ev[-1]), 1e-300))
+    return ModalParticipation(w, np.array(zeta), np.array(facs), np.array(resid))
 
 
 def align_signs(factors: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import frames
+from .checks import check_members
 from .titop import Section
 
 __all__ = ["available", "frame_frequencies"]
@@ -84,9 +85,7 @@ def frame_frequencies(
         ) from exc
     names = list(nodes)
     tag = {n: i + 1 for i, n in enumerate(names)}
-    unknown = [n for m in members for n in m if n not in tag] + [n for n in clamped if n not in tag]
-    if unknown:
-        raise ValueError(f"unknown node(s) {sorted(set(unknown))}; nodes are {names}")
+    check_members(nodes, members, clamped)  # OpenSees would only print warnings and return plausible numbers
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     for n in names:

@@ -211,3 +211,22 @@ def test_connect_and_constrained_frequencies_check_their_nodes():
         ports.connect([first, second])
     with pytest.raises(ValueError, match="belong to no member"):  # was a LinAlgError deep in scipy
         assembly.constrained_frequencies({"A": [0, 0, 0], "B": [1, 0, 0], "Z": [5, 5, 5]}, [("A", "B")], sec, ["A"])
+
+
+def test_degenerate_modes_are_flagged_and_the_fe_frame_is_one_per_member():
+    from lib import frame_fe, modal, opensees_fe
+
+    sec = titop.Section.square(0.03)
+    beam = titop.clamped_free(1.0, sec, 2)  # square section: the bending modes come in equal pairs
+    part = modal.participation_factors(beam, "P", n_modes=4)
+    assert np.all(part.rank_one_residual > 0.1)  # was ~1e-17: the flag could never fire
+    rect = titop.Section(6e-4, 2e-8, 8e-8, 1e-7)
+    a, b = np.array([1.0, -0.4, 1.2]), np.array([0.2, 0.9, 0.4])  # along (-0.8, 1.3, -0.8): a tie of |x| and |z|
+    along_x = frame_fe.build_frame({"A": [0, 0, 0], "B": [np.linalg.norm(b - a), 0, 0]}, [("A", "B")], rect, 6).modes(["A"], n_modes=4)
+    skew = frame_fe.build_frame({"A": a, "B": b}, [("A", "B")], rect, 6).modes(["A"], n_modes=4)
+    # the same member in another direction (sub-elements twisted by 90 deg by rounding gave 36.49, 59.51 for 34.80, 69.60)
+    np.testing.assert_allclose(skew.omega, along_x.omega, rtol=1e-6)
+    with pytest.raises(ValueError, match="belong to no member"):
+        frame_fe.build_frame({"A": [0, 0, 0], "B": [1, 0, 0], "Z": [5, 5, 5]}, [("A", "B")], sec, 2)
+    with pytest.raises(ValueError, match="at least one node"):  # OpenSees returned 155 rad/s for a free-free beam
+        opensees_fe.frame_frequencies({"A": [0, 0, 0], "B": [1, 0, 0]}, [("A", "B")], sec, [], 2)
