@@ -60,7 +60,7 @@ def constrained_frequencies(
     """
     names = list(nodes)
     check_members(nodes, members, clamped)
-    if not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
+    if not section.symmetric:
         raise ValueError("constrained_frequencies takes square sections only (Iy = Iz): it uses the default beam frames")
     free_nodes = [n for n in names if n not in clamped]
     col = {n: 6 * i for i, n in enumerate(free_nodes)}

@@ -331,7 +331,8 @@ def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float
     """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters (a SHA-256 of their
     JSON) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
     digest = None if params is None else hashlib.sha256(json.dumps(params, sort_keys=True, default=str).encode()).hexdigest()
-    return {"settings": None if settings is None else settings.__dict__, "params_sha256": digest, "m0": float(m0)}
+    key = {"settings": None if settings is None else settings.__dict__, "params_sha256": digest, "m0": float(m0)}
+    return json.loads(json.dumps(key, default=str))  # as it reads back from a checkpoint
 
 
 def _normalised_options(options: dict | None) -> Any:
@@ -398,7 +399,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     check_option("n_iterations", n_iterations, 1, integer=True)
     _check_h_range(h_range, params)
     objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
-    objective = json.loads(json.dumps(_objective_key(settings, params, m0), default=str))
+    objective = _objective_key(settings, params, m0)
     if checkpoint is not None and Path(checkpoint).exists():
         extra = pso.load_state(checkpoint).extra
         found = extra.get("algorithm")

@@ -176,8 +176,6 @@ def build_frame(
     pos = [frames.as_vector3(nodes[name], f"position of {name}") for name in nodes]
     elements: list[tuple[int, int, NDArray]] = []
     for p, c in members:
-        if p not in node_index or c not in node_index:
-            raise ValueError(f"member ({p!r}, {c!r}) uses an unknown node; nodes are {list(nodes)}")
         # one frame per member: from each sub-element's rounded end points the default axes could flip by 90 deg
         rot = frames.beam_frame(pos[node_index[p]], pos[node_index[c]])
         ids = [node_index[p]]

@@ -23,9 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
-from .ports import close_static, frequency_response, invert_channels
+from .ports import close_static, frequency_response, invert_channels, state_space_arrays
 
-__all__ = ["Parameter", "LFT"]
+__all__ = ["Parameter", "LFT", "block_runs"]
 
 
 @dataclass(frozen=True)
@@ -104,22 +104,15 @@ def _delta_values(params: Mapping[str, Parameter], values: Mapping[str, float], 
     return out
 
 
-def _ss(a, b, c, d):
-    """The four matrices as 2-D float arrays, their shapes checked (only empty B or C are reshaped)."""
-    a = np.atleast_2d(np.asarray(a, float)) if np.size(a) else np.zeros((0, 0))
-    d = np.atleast_2d(np.asarray(d, float))
-    n = a.shape[0]
-    if a.shape != (n, n):
-        raise ValueError(f"A must be square, got shape {a.shape}")
-    b, c = np.asarray(b, float), np.asarray(c, float)
-    b = b.reshape(n, d.shape[1]) if b.size == 0 else b
-    c = c.reshape(d.shape[0], n) if c.size == 0 else c
-    if not all(np.all(np.isfinite(x)) for x in (a, b, c, d)):
-        raise ValueError("A, B, C and D must be finite (no NaN or inf)")
-    if b.shape != (n, d.shape[1]) or c.shape != (d.shape[0], n):
-        raise ValueError(f"with {n} states and D of shape {d.shape}, B must be {(n, d.shape[1])} and C {(d.shape[0], n)}; "
-                         f"got B {b.shape} and C {c.shape}")
-    return a, b, c, d
+def block_runs(blocks: Sequence[str]) -> list[tuple[str, int]]:
+    """``[(name, repetitions), ...]`` of consecutive Delta channels of the same parameter, in channel order."""
+    out: list[tuple[str, int]] = []
+    for name in blocks:
+        if out and out[-1][0] == name:
+            out[-1] = (name, out[-1][1] + 1)
+        else:
+            out.append((name, 1))
+    return out
 
 
 class LFT:
@@ -137,7 +130,7 @@ class LFT:
 
     def __init__(self, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, blocks: Sequence[str] = (),
                  params: Mapping[str, Parameter] | None = None):
-        self.a, self.b, self.c, self.d = _ss(a, b, c, d)
+        self.a, self.b, self.c, self.d = state_space_arrays(a, b, c, d)
         self.blocks = list(blocks)
         self.params = dict(params or {})
         missing = sorted(set(self.blocks) - set(self.params))
@@ -189,14 +182,7 @@ class LFT:
 
     def delta_structure(self) -> list[tuple[str, int]]:
         """``[(name, repetitions), ...]`` in channel order after :meth:`grouped` (for mu-analysis)."""
-        g = self.grouped()
-        out: list[tuple[str, int]] = []
-        for name in g.blocks:
-            if out and out[-1][0] == name:
-                out[-1] = (name, out[-1][1] + 1)
-            else:
-                out.append((name, 1))
-        return out
+        return block_runs(self.grouped().blocks)
 
     def grouped(self) -> "LFT":
         """The same LFT with its Delta channels sorted by parameter (one repeated block per parameter)."""

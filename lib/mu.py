@@ -299,11 +299,16 @@ def wc_gain_upper(m: ArrayLike, blocks: Sequence, solver: str = "CLARABEL", retr
     return first
 
 
+def _box_corners(nbk: int) -> NDArray[np.float64]:
+    """The ``2^nbk`` corners of the normalised box, one per row."""
+    return np.array(np.meshgrid(*[[-1.0, 1.0]] * nbk, indexing="ij")).reshape(nbk, -1).T
+
+
 def _gain_estimate(m: ArrayLike, blocks: Sequence) -> float:
     """Largest ``sigma_max(F_u)`` at the nominal point and the corners of the box (at most 1024 of them) where the LFT
     is well posed (0 if it is nowhere)."""
     nbk = len(_block_sizes(blocks))
-    pts = np.array(np.meshgrid(*[[-1.0, 1.0]] * nbk, indexing="ij")).reshape(nbk, -1).T if nbk <= 10 else np.zeros((0, nbk))
+    pts = _box_corners(nbk) if nbk <= 10 else np.zeros((0, nbk))
     best = 0.0
     for d in np.vstack([np.zeros(nbk), pts]):
         try:
@@ -546,7 +551,7 @@ def wc_gain_lower(m_of_w: MOfW, blocks: Sequence, omegas: ArrayLike, n_starts: i
     if isinstance(n_random, bool) or not isinstance(n_random, (int, np.integer)) or n_random < 0:
         raise ValueError(f"n_random must be a non-negative integer, got {n_random!r}")
     get, rng, nbk = _m_at(m_of_w, w), np.random.default_rng(rng), len(sizes)
-    corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * nbk, indexing="ij")).reshape(nbk, -1).T if nbk <= 10 \
+    corners = _box_corners(nbk) if nbk <= 10 \
         else rng.choice([-1.0, 1.0], size=(1024, nbk))
     best: dict[str, Any] = {"gain": -1.0, "omega": np.nan, "deltas": np.zeros(nbk), "n": 0}
     mats: dict[float, tuple[NDArray, float]] = {}

@@ -42,6 +42,7 @@ __all__ = [
     "COMPONENTS",
     "Port",
     "MultiPortModel",
+    "state_space_arrays",
     "invert_channels",
     "close_static",
     "connect",
@@ -54,6 +55,25 @@ __all__ = [
 
 COMPONENTS: tuple[str, ...] = ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")
 _COMP_INDEX = {c: i for i, c in enumerate(COMPONENTS)}
+
+
+def state_space_arrays(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """``(A, B, C, D)`` as 2-D float arrays, checked: A square, B and C consistent with A and D (only an empty B or C
+    is reshaped: a transposed one of the right size must not be scrambled silently), all finite."""
+    a = np.atleast_2d(np.asarray(a, float)) if np.size(a) else np.zeros((0, 0))
+    d = np.atleast_2d(np.asarray(d, float))
+    n = a.shape[0]
+    if a.shape != (n, n):
+        raise ValueError(f"A must be square, got shape {a.shape}")
+    b, c = np.asarray(b, float), np.asarray(c, float)
+    b = b.reshape(n, d.shape[1]) if b.size == 0 else b
+    c = c.reshape(d.shape[0], n) if c.size == 0 else c
+    if not all(np.all(np.isfinite(x)) for x in (a, b, c, d)):
+        raise ValueError("A, B, C and D must be finite (no NaN or inf)")
+    if b.shape != (n, d.shape[1]) or c.shape != (d.shape[0], n):
+        raise ValueError(f"with {n} states and D of shape {d.shape}, B must be {(n, d.shape[1])} and C {(d.shape[0], n)}; "
+                         f"got B {b.shape} and C {c.shape}")
+    return a, b, c, d
 
 
 @dataclass(frozen=True)
@@ -338,21 +358,10 @@ class MultiPortModel:
 
     def __init__(self, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, ports: Sequence[Port], name: str = "model",
                  params: Mapping | None = None):
-        self.a = np.atleast_2d(np.asarray(a, dtype=float))
-        self.d = np.atleast_2d(np.asarray(d, dtype=float))
         n_ch = sum(p.size for p in ports)
-        n_x = self.a.shape[0] if self.a.size else 0
-        self.a = self.a.reshape(n_x, n_x)
-        b, c = np.asarray(b, dtype=float), np.asarray(c, dtype=float)
-        self.b = b.reshape(n_x, n_ch) if b.size == 0 else b  # only an empty B or C is reshaped
-        self.c = c.reshape(n_ch, n_x) if c.size == 0 else c
-        if self.b.shape != (n_x, n_ch) or self.c.shape != (n_ch, n_x):
-            raise ValueError(f"with {n_x} states and {n_ch} channels, B must be {(n_x, n_ch)} and C {(n_ch, n_x)}; "
-                             f"got {self.b.shape} and {self.c.shape}")
-        if not all(np.all(np.isfinite(m)) for m in (self.a, self.b, self.c, self.d)):
-            raise ValueError(f"the state-space matrices of {name!r} must be finite (no NaN or inf)")
-        if self.d.shape != (n_ch, n_ch):
-            raise ValueError(f"D must be {n_ch}x{n_ch} for the given ports, got {self.d.shape}")
+        if np.atleast_2d(np.asarray(d)).shape != (n_ch, n_ch):
+            raise ValueError(f"D must be {n_ch}x{n_ch} for the given ports, got {np.atleast_2d(np.asarray(d)).shape}")
+        self.a, self.b, self.c, self.d = state_space_arrays(a, b, c, d)
         names = [p.name for p in ports]
         if len(set(names)) != len(names):
             raise ValueError(f"port names must be unique, got {names}")

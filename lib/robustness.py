@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from threadpoolctl import threadpool_limits
 
 from .closedloop import LoopSettings
-from .lft import LFT
+from .lft import LFT, block_runs
 from .mu import wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
 from .results import read_keyed, write_json
 from .synthesis import Scenario, plant_at
@@ -101,19 +101,6 @@ class AngleBounds:
         return self.upper / self.lower - 1.0
 
 
-
-def _runs(blocks: list[str]) -> list[tuple[str, int]]:
-    """``[(name, repetitions), ...]`` of consecutive Delta channels; each parameter must form one run (a grouped model)."""
-    runs: list[tuple[str, int]] = []
-    for name in blocks:
-        if runs and runs[-1][0] == name:
-            runs[-1] = (name, runs[-1][1] + 1)
-        else:
-            runs.append((name, 1))
-    if len({name for name, _ in runs}) != len(runs):
-        raise ValueError(f"the Delta channels of model_low must be grouped by parameter (LFT.grouped()), got {blocks}")
-    return runs
-
 def physical_deltas(model: LFT, deltas: dict[str, float]) -> dict[str, float]:
     """Physical values of normalised worst-case parameters (hub mass [kg], Iyy [kg m^2], omega1 [rad/s])."""
     return {name: model.params[name].from_delta(v) for name, v in deltas.items()}
@@ -173,8 +160,11 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
         by branch and bound over the parameter box, with at most ``bb_max_solves`` LMIs per frequency.
     """
     plant = plant_at(model_low, Scenario(theta=float(theta)), inertia_p1, settings, keep=KEEP)
-    structure = _runs([b for b in model_low.blocks if b in KEEP])  # the plant's open channels, in their order
+    kept = [b for b in model_low.blocks if b in KEEP]  # the plant's open channels, in their order
+    structure = block_runs(kept)
     names = [name for name, _ in structure]
+    if len(set(names)) != len(names):
+        raise ValueError(f"the Delta channels of model_low must be grouped by parameter (LFT.grouped()), got {kept}")
     a, b, c, d = plant.closed_loop(gain)
     if np.linalg.eigvals(a).real.max() >= 0:
         raise ValueError(f"the closed loop is unstable at nominal parameters and theta = {np.rad2deg(theta):.2f} deg")

@@ -137,6 +137,12 @@ class Section:
         """Polar moment of area Ip = Iy + Iz [m^4] (torsional inertia rho Ip per length)."""
         return self.iy + self.iz
 
+    @property
+    def symmetric(self) -> bool:
+        """Whether Iy = Iz (to 1e-12 relative): the bending stiffness is the same in every transverse direction, so
+        the orientation of the beam frame about its axis does not matter."""
+        return bool(np.isclose(self.iy, self.iz, rtol=1e-12, atol=0.0))
+
 
 @dataclass(frozen=True)
 class ModalData:
@@ -379,7 +385,7 @@ def beam(p: tuple[str, ArrayLike], c: tuple[str, ArrayLike], section: Section, n
     h_param : lib.lft.Parameter, optional
         Square-section side as an LFT parameter (scaled signals, see :func:`clamped_free_lft`).
     """
-    if y_hint is None and not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
+    if y_hint is None and not section.symmetric:
         raise ValueError(f"a section with Iy = {section.iy:.4g} != Iz = {section.iz:.4g} [m^4] needs y_hint (the direction "
                          "of the beam's y axis in the common frame)")
     (pn, rp), (cn, rc) = p, c
@@ -426,7 +432,7 @@ def clamped_free_lft(length: float, section: Section, h_param, n_modes: int = 1,
     ratio = section.torsion_constant / (section.iy + section.iz)
     kinds = {"polar": 1.0, "exact": square_torsion_constant(1.0) / (2.0 / 12.0)}
     torsion = next((k for k, r in kinds.items() if np.isclose(ratio, r, rtol=1e-9, atol=0.0)), None)
-    if torsion is None or not np.isclose(section.iy, section.iz, rtol=1e-12, atol=0.0):
+    if torsion is None or not section.symmetric:
         raise ValueError(f"clamped_free_lft needs a square section with polar (J = Iy + Iz) or exact (Saint-Venant) torsion; "
                          f"got Iy = {section.iy:.4g}, Iz = {section.iz:.4g}, J / (Iy + Iz) = {ratio:.6g} [m^4]")
     sec0 = Section.square(h_param.center, section.young, section.poisson, section.density, section.damping, torsion)
