@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import spacecraft, synthesis
 from .checks import check_option
 from .closedloop import LoopSettings
-from .results import read_keyed, write_json
+from .results import normalise_key, read_keyed, write_json
 from .synthesis import Scenario
 
 __all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
@@ -253,7 +253,7 @@ def _read_partial(path: str | Path | None, key: dict | None) -> dict:
         stored, key = read_keyed(path, key)
     except json.JSONDecodeError as exc:  # only a cache of finished particles: recompute them rather than stop
         warnings.warn(f"ignoring the unreadable partial file {path} ({exc}): its particles are evaluated again", stacklevel=2)
-        stored, key = None, json.loads(json.dumps(key, default=str))
+        stored, key = None, normalise_key(key)
     return stored or {"key": key, "records": {}, "time_s": 0.0}
 
 

@@ -26,7 +26,7 @@ from . import reduction, results, spacecraft
 from .closedloop import LoopSettings
 from .lft import LFT
 from .checks import check_option
-from .synthesis import Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
+from .synthesis import NOT_STABILISED, Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
 __all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
            "truss_variants"]
@@ -190,15 +190,27 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
     """
     settings = settings or LoopSettings.from_parameters()
     p = params or spacecraft.load_parameters()
+    low_h, high_h = p["truss"]["h_range"]
+    if not (isinstance(h, (int, float, np.floating)) and not isinstance(h, bool) and in_design_range(h, p)):
+        raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
+    shifts = list(shifts)
+    for shift in shifts:
+        if not (isinstance(shift, (int, float, np.integer, np.floating)) and not isinstance(shift, bool)
+                and np.isfinite(shift) and shift > -1):
+            raise ValueError(f"each truss shift must be a finite relative change > -1, got {shift!r}")
+    checked: dict[str, NDArray] = {name: np.asarray(gain, dtype=float) for name, gain in gains.items()}
+    for name, k in checked.items():
+        if k.shape != (4, 8) or not np.all(np.isfinite(k)):
+            raise ValueError(f"gains[{name!r}] must be a finite 4x8 matrix, got shape {k.shape}")
     rows: list[dict] = []
     skipped: list[float] = []
-    for rel in progress(sorted({0.0, *shifts})):
+    for rel in progress(sorted({0.0, *(float(s) for s in shifts)})):
         h_s = h * (1 + rel)
         if not in_design_range(h_s, p):
             skipped.append(rel)
             continue
         m_s = models_at(h_s, p)
-        for name, gain in gains.items():
+        for name, gain in checked.items():
             wc = worst_case(m_s.g_r, gain, m_s.inertia, settings)
             row = {"design": name, "shift_pct": 100 * rel, "h_cm": 100 * h_s, "J_c": wc.value["rpe"], "omega_J_rad_s": wc.omega["rpe"],
                    "Z_c": wc.value["effort"], "unstable_box_points": len(wc.unstable), "evaluations": wc.evaluations}
@@ -233,7 +245,9 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
     restarts : int
         How many times a failed synthesis is started again from its final gain, with the starting scenario set (default
         0: a failure is returned, flagged, as the co-design's stored runs had it). Not after a failure to stabilise
-        from the starting gain (the gain has not moved). Measured (``benchmarks/robust_synthesis.py``, Intel machine):
+        from the starting gain (the gain has not moved); a failure to stabilise the scenarios a later round added is
+        restarted (from the last round's gain, with the starting scenario set).
+        Measured (``benchmarks/robust_synthesis.py``, Intel machine):
         the truss-tolerant fast-path design at 2.1 cm stopped after 6 rounds with Z_c 1.234 (each worst-case search
         found a worse effort scenario than the set), and one restart from its gain converged (Z_c 0.982; 470 s for both attempts).
         The result is valid on its own checks (the last attempt's scenario set, search and final evaluation).
@@ -251,7 +265,7 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
 
     res, first = run(gain0), ""
     for attempt in range(1, restarts + 1):
-        if res.success or res.message.startswith("could not stabilise"):
+        if res.success or res.message == NOT_STABILISED:  # later rounds' failures to stabilise are restarted
             break
         first = first or res.message
         again = run(res.gain)
@@ -282,12 +296,33 @@ def stored_design(source: str | int = "auto", results_dir: str = "data/results",
     if name in ("auto", "07"):
         try:
             best = results.load_results("07_pso_codesign", results_dir)["results"]["optimum"]
-            return "07", float(best["h"]), np.array(best["gain"], dtype=float)
         except (FileNotFoundError, KeyError):
             if name == "07":
                 raise
+        else:
+            if isinstance(best, dict) and best.get("status", "ok") != "ok":  # files before 2026-12-03 hold no status
+                raise ValueError(f"notebook 07's optimum is not a valid design ({best['status']}): rerun notebook 07")
+            return "07", *_checked_design(best.get("h") if isinstance(best, dict) else None,
+                                          best.get("gain") if isinstance(best, dict) else None, "notebook 07's optimum")
+    if not (isinstance(h_fallback, (int, float, np.floating)) and not isinstance(h_fallback, bool) and np.isfinite(h_fallback)):
+        raise ValueError(f"h_fallback must be a finite section side [m], got {h_fallback!r}")
     stored = results.load_results("06_robust_synthesis", results_dir)["results"]["designs"]
     key = f"{100 * h_fallback:.3f}"
-    if key not in stored:
-        raise ValueError(f"notebook 06 stored no design at h = {h_fallback} m (it has {sorted(stored)}): rerun it with this h")
-    return "06", h_fallback, np.array(stored[key]["gain"], dtype=float)
+    if key not in stored or abs(float(key) - 100 * h_fallback) > 1e-9:  # the keys hold h to 1e-5 cm: another h is not it
+        raise ValueError(f"notebook 06 stored no design at h = {h_fallback} m (it has {sorted(stored)} cm): rerun it with this h")
+    if stored[key].get("success") is False:
+        raise ValueError(f"notebook 06's design at {key} cm failed its synthesis ({stored[key].get('message')}): not a design to analyse")
+    return "06", *_checked_design(float(h_fallback), stored[key].get("gain"), f"notebook 06's design at {key} cm")
+
+
+def _checked_design(h: object, gain: object, what: str) -> tuple[float, NDArray]:
+    """``(h, gain)`` of a stored design, or a ValueError naming it unless h is in the design range and the gain finite 4x8."""
+    try:
+        k = np.array(gain, dtype=float) if isinstance(gain, (list, np.ndarray)) else np.full(0, np.nan)
+    except ValueError:  # ragged
+        k = np.full(0, np.nan)
+    if not (isinstance(h, (int, float)) and not isinstance(h, bool) and in_design_range(h)) or k.shape != (4, 8) \
+            or not np.all(np.isfinite(k)):
+        raise ValueError(f"{what} is not a stored design (h = {h!r} m in the design range, a finite 4x8 gain): got h = {h!r}, "
+                         f"gain of shape {k.shape}; rerun the notebook")
+    return float(h), k

@@ -46,7 +46,7 @@ from .hinf import hinf_norm
 from .lft import LFT
 from .modalloop import ModalLoop, sigma_max
 
-__all__ = ["ALGORITHM", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
+__all__ = ["ALGORITHM", "NOT_STABILISED", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
            "plant_at", "default_scenarios", "exact_norms", "sigma_curve"]
 
 GROUPS = ("rpe", "effort")
@@ -555,6 +555,10 @@ def _merge(found: Sequence[WorstCase]) -> WorstCase:
     return WorstCase(value, scenario, omega, sum(w.evaluations for w in found), [sc for w in found for sc in w.unstable])
 
 
+# message of a synthesis that could not stabilise its scenario set from its starting gain (the gain has not moved)
+NOT_STABILISED = "could not stabilise every scenario from the starting gain"
+
+
 @dataclass
 class SynthesisResult:
     """Outcome of :func:`synthesize`.
@@ -790,7 +794,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         for round_ in range(max_rounds):
             state = _stabilise(prob, prob.evaluate_all(gain))
             if not state.stable():
-                message = "could not stabilise every scenario from the starting gain"
+                message = (NOT_STABILISED if round_ == 0 else
+                           f"could not stabilise the scenarios the worst-case search added in round {round_ - 1}")
                 break
             state, at_limit = _optimise(prob, state)
             gain = state.gain

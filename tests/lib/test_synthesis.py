@@ -363,6 +363,12 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
         outcomes[:] = [first, _result(-9.0, True, "converged")]
         res = design.robust_design(base, ST, spillover=False, restarts=restarts)
         assert len(calls) == n_calls and res is first and res.restarts == 0
+    # the gain moved before a later round failed to stabilise the scenarios its search added: worth a restart
+    calls.clear()
+    outcomes[:] = [_result(-3.0, False, "could not stabilise the scenarios the worst-case search added in round 1"),
+                   _result(-9.0, True, "converged")]
+    res = design.robust_design(base, ST, spillover=False, restarts=1)
+    assert calls == [(None, None), (-3.0, None)] and res.success and res.restarts == 1
     with pytest.raises(ValueError, match="restarts must be an integer in \\[0, inf\\)"):
         design.robust_design(base, ST, spillover=False, restarts=-1)
     for bad in (1.5, True, "2"):  # wrong types: TypeError, as every option of the synthesis

@@ -1,0 +1,132 @@
+"""results.py (JSON round trip, atomic saves, keyed caches) and the cheap paths of design.py (no model build)."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from lib import design, results
+
+
+def test_complex_non_finite_and_complex64_give_valid_json() -> None:
+    for value in (complex(np.inf, 1.0), np.complex128(complex(np.nan, 0.0)), np.complex64(1 + 2j), np.array([1j, np.inf + 0j])):
+        json.dumps(results.to_jsonable(value), allow_nan=False)  # strict JSON: no Infinity / NaN tokens
+
+
+def test_colliding_keys_are_refused_not_dropped() -> None:
+    with pytest.raises(ValueError, match="collide"):
+        results.to_jsonable({1: "a", "1": "b"})
+
+
+def test_dataclass_is_converted() -> None:
+    @dataclass
+    class D:
+        a: float = np.inf
+        b: np.ndarray | None = None
+
+    assert results.to_jsonable(D(b=np.arange(2))) == {"a": "inf", "b": [0, 1]}
+
+
+def test_save_results_is_atomic(tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    results.save_results("x", {"J_c": 0.5}, tmp_path)
+    real = pathlib.Path.write_text
+
+    def interrupted(self: pathlib.Path, text: str, *args, **kwargs) -> int:  # truncates, writes half, then dies
+        real(self, text[: len(text) // 2])
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pathlib.Path, "write_text", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        results.save_results("x", {"J_c": 0.7}, tmp_path)
+    monkeypatch.undo()
+    assert results.load_results("x", tmp_path)["results"] == {"J_c": 0.5}
+
+
+def test_load_results_restores_non_finite_floats(tmp_path: pathlib.Path) -> None:
+    results.save_results("x", {"J_c": np.inf, "rows": [{"Z_c": np.nan}]}, tmp_path)
+    r = results.load_results("x", tmp_path)["results"]
+    assert r["J_c"] == np.inf and np.isnan(r["rows"][0]["Z_c"])
+
+
+@pytest.mark.parametrize("key", [{"x": float("nan")}, {"norm": "inf"}, {"n": np.int64(3), "v": np.float32(0.5)}])
+def test_read_keyed_reuses_a_file_written_with_the_same_key(tmp_path: pathlib.Path, key: dict) -> None:
+    path = tmp_path / "c.json"
+    _, k = results.read_keyed(path, key)
+    results.write_json(path, {"key": k, "v": 1})
+    assert results.read_keyed(path, key)[0] is not None
+
+
+def test_read_keyed_keys_arrays_exactly(tmp_path: pathlib.Path) -> None:
+    path = tmp_path / "c.json"
+    for a, b in ((np.array([0.123456789012]), np.array([0.123456789099])), (np.arange(2000.0), np.r_[np.arange(1000.0), -1.0, np.arange(1001.0, 2000.0)])):
+        _, k = results.read_keyed(path, {"a": a})
+        results.write_json(path, {"key": k})
+        assert results.read_keyed(path, {"a": a})[0] is not None
+        assert results.read_keyed(path, {"a": b})[0] is None  # another array: not reused
+
+
+@pytest.mark.parametrize("h", [0.04, float("nan"), 2.139])
+def test_truss_shift_check_refuses_h_outside_the_range(h: float) -> None:
+    with pytest.raises(ValueError, match="h must be"):
+        design.truss_shift_check(h, {"d": np.zeros((4, 8))}, [0.01])
+
+
+@pytest.mark.parametrize("shift", [float("nan"), -1.5, "0.01"])
+def test_truss_shift_check_refuses_bad_shifts(shift: object) -> None:
+    with pytest.raises(ValueError, match="truss shift"):
+        design.truss_shift_check(0.02, {"d": np.zeros((4, 8))}, [shift])  # type: ignore[list-item]
+
+
+def test_truss_shift_check_refuses_bad_gains_before_building() -> None:
+    with pytest.raises(ValueError, match="4x8"):
+        design.truss_shift_check(0.02, {"d": np.zeros((4, 7))}, [0.01])
+
+
+def _store(tmp_path: pathlib.Path) -> np.ndarray:
+    gain = np.arange(32.0).reshape(4, 8)
+    results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": gain}, "3.000": {"gain": -gain}}}, tmp_path)
+    return gain
+
+
+@pytest.mark.parametrize("h", [0.021394, 0.029996])
+def test_stored_design_06_needs_the_h_asked_for(tmp_path: pathlib.Path, h: float) -> None:
+    _store(tmp_path)
+    with pytest.raises(ValueError, match="no design at h"):
+        design.stored_design("06", str(tmp_path), h)
+
+
+def test_stored_design_06_exact_h(tmp_path: pathlib.Path) -> None:
+    gain = _store(tmp_path)
+    src, h, k = design.stored_design("auto", str(tmp_path), 0.02139)
+    assert (src, h) == ("06", 0.02139) and np.array_equal(k, gain)
+
+
+@pytest.mark.parametrize("optimum", [{"h": 0.02, "gain": None}, {"h": 0.02, "gain": [[1.0, 2.0]]},
+                                     {"h": float("nan"), "gain": np.zeros((4, 8))}, {"h": 0.02, "gain": np.full((4, 8), np.inf)}])
+def test_stored_design_07_refuses_a_broken_optimum(tmp_path: pathlib.Path, optimum: dict) -> None:
+    _store(tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": optimum}, tmp_path)
+    for source in ("07", "auto"):
+        with pytest.raises(ValueError, match="optimum"):
+            design.stored_design(source, str(tmp_path))
+
+
+def test_stored_design_06_refuses_a_failed_synthesis(tmp_path: pathlib.Path) -> None:
+    results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": np.ones((4, 8)), "success": False,
+                                                                        "message": "stopped after 6 rounds"}}}, tmp_path)
+    with pytest.raises(ValueError, match="failed"):
+        design.stored_design("06", str(tmp_path), 0.02139)
+
+
+def test_stored_design_07_refuses_a_penalised_optimum(tmp_path: pathlib.Path) -> None:
+    """With every particle failed or penalised, the swarm's best f^n is still finite (m/m0 + 10): its status says it."""
+    _store(tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "penalty: J_c > 2"}}, tmp_path)
+    with pytest.raises(ValueError, match="not a valid design"):
+        design.stored_design("auto", str(tmp_path))
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "ok"}}, tmp_path)
+    assert design.stored_design("auto", str(tmp_path))[:2] == ("07", 0.02)
