@@ -74,12 +74,14 @@ def draw_structure(ax: plt.Axes, nodes: Mapping[str, ArrayLike], members: Sequen
         ax.set_title(title)
 
 
-def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[float, float]) -> plt.Figure:
+def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[float, float], jc_limit: float = 2.0) -> plt.Figure:
     """The paper's four-panel PSO figure from the particle records (``iteration``, ``h`` [m], ``J_c``, ``f``).
 
-    (a) boxplots of h per iteration, (b) of the finite J_c per iteration, the best particle of each iteration
+    (a) boxplots of h per iteration, (b) of the valid J_c per iteration (penalised or failed particles, ``J_c``
+    infinite or above ``jc_limit``, are left out, as in the paper), the best particle of each iteration
     highlighted (yellow dots, as the paper); (c) the swarm's best f^n against the iteration; (d) h and J_c of the
-    best particle of each iteration.
+    best particle of each iteration. Records read from a results file must be restored first (``inf`` is stored as a
+    string): :func:`lib.results.load_results` does it.
     """
     its = list(range(n_iterations))
     per = [[r for r in history if r["iteration"] == k] for k in its]
@@ -93,8 +95,11 @@ def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[flo
     ax.set(xlabel="iteration", ylabel="h [cm]", title="(a) particles: section side", ylim=(100 * h_range[0] - 0.05, 100 * h_range[1] + 0.05))
     ax.legend(fontsize=8)
     ax = axes[0, 1]
-    ax.boxplot([[r["J_c"] for r in p if np.isfinite(r["J_c"])] or [np.nan] for p in per], positions=x, widths=0.6)
-    ax.plot(x, [b["J_c"] for b in best], "o", color="gold", mec="k", label="best particle")
+    def valid(j: float) -> bool:
+        return bool(np.isfinite(j) and j <= jc_limit)
+
+    ax.boxplot([[r["J_c"] for r in p if valid(r["J_c"])] or [np.nan] for p in per], positions=x, widths=0.6)
+    ax.plot(x, [b["J_c"] if valid(b["J_c"]) else np.nan for b in best], "o", color="gold", mec="k", label="best particle")
     ax.set(xlabel="iteration", ylabel="$J_c$ (worst case)", title="(b) particles: robust pointing performance")
     ax.legend(fontsize=8)
     ax = axes[1, 0]
@@ -136,11 +141,11 @@ def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, titl
     f, j_c, mass = (np.array([r[k] for r in records], dtype=float) for k in ("f", "J_c", "mass"))
     valid = np.isfinite(j_c) & (j_c <= jc_limit)
     fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-    axes[0].plot(h[valid], f[valid], "k.-", label="dense grid")
+    axes[0].plot(h, np.where(valid, f, np.nan), "k.-", label="dense grid")  # NaN: the curve breaks at penalised points
     if not valid.all():
         top = np.nanmax(f[valid]) * 1.05 if valid.any() else np.nanmax(f)
         axes[0].plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False, label=f"penalised (failed or $J_c > {jc_limit:g}$)")
-    axes[1].plot(h[valid], j_c[valid], "C3.-", label="dense grid")
+    axes[1].plot(h, np.where(valid, j_c, np.nan), "C3.-", label="dense grid")
     axes[1].axhline(0.9, color="k", ls=":", label="target 0.9")
     if best is not None and np.isfinite(float(best["J_c"])) and float(best["J_c"]) <= jc_limit:
         axes[0].plot(100 * best["h"], best["f"], "o", color="gold", mec="k", label="PSO best")

@@ -18,7 +18,56 @@ def test_objective_grid_keeps_penalised_points_off_the_curve():
     fig = plotting.objective_grid(records, best=records[0], jc_limit=2.0)
     ax_f = fig.axes[0]
     curve = next(line for line in ax_f.get_lines() if line.get_label() == "dense grid")
-    assert np.all(curve.get_ydata() < 2.0) and len(curve.get_xdata()) == 5
+    y = np.asarray(curve.get_ydata(), float)
+    assert np.all(y[np.isfinite(y)] < 2.0) and np.isfinite(y).sum() == 5
     marks = [line for line in ax_f.get_lines() if line.get_label().startswith("penalised")]
     assert len(marks) == 1 and np.allclose(marks[0].get_xdata(), [1.8])
     assert ax_f.get_ylim()[1] < 2.0
+
+
+def _history(n_it=3, n_p=4):
+    """Particle records: iteration k, particle i at h = 1.5 + 0.1 i cm; the best (lowest f) is particle (k + 1) % n_p."""
+    recs = []
+    for k in range(n_it):
+        for i in range(n_p):
+            recs.append(dict(iteration=k, particle=i, h=0.015 + 0.001 * i, J_c=0.02 + 0.01 * i,
+                             f=1.0 if i == (k + 1) % n_p else 1.5 + 0.1 * i))
+    return recs
+
+
+def test_pso_panels_highlights_the_best_particle_of_each_iteration():
+    fig = plotting.pso_panels(_history(), 3, (0.015, 0.03))
+    gold = next(line for line in fig.axes[0].get_lines() if line.get_label() == "best particle")
+    assert np.allclose(gold.get_xdata(), [1, 2, 3]) and np.allclose(gold.get_ydata(), [1.6, 1.7, 1.8])
+
+
+def test_pso_panels_reads_records_from_a_results_file(tmp_path):
+    """Records saved by lib.results and read back by load_results (a failed synthesis: J_c infinite, stored as a string)."""
+    from lib import results
+    recs = _history()
+    recs[2].update(J_c=float("inf"), f=10.3)
+    results.save_results("pso", {"history": recs}, tmp_path)
+    back = results.load_results("pso", tmp_path)["results"]["history"]
+    fig = plotting.pso_panels(back, 3, (0.015, 0.03))
+    boxes = fig.axes[1].get_lines()
+    assert all(np.all(np.isfinite(np.asarray(line.get_ydata(), float)[~np.isnan(np.asarray(line.get_ydata(), float))])) for line in boxes)
+
+
+def test_pso_panels_leaves_penalised_particles_out_of_the_jc_boxplots():
+    """J_c > 2 is penalised (f = m/m0 + 10) and, as in the paper's figure and objective_grid, not in the J_c panel."""
+    recs = _history()
+    recs[3].update(J_c=50.0, f=10.5)
+    fig = plotting.pso_panels(recs, 3, (0.015, 0.03))
+    ydata = np.concatenate([np.asarray(line.get_ydata(), float) for line in fig.axes[1].get_lines()])
+    assert np.nanmax(ydata) < 2.0
+
+
+def test_objective_grid_breaks_the_curves_at_penalised_points():
+    """The f^n and J_c curves are not drawn across a penalised grid point as if it were valid."""
+    records = [dict(h=0.015 + 0.001 * i, f=0.9 + 0.05 * i, J_c=0.02, mass=50.0 + 5 * i) for i in range(6)]
+    records[3].update(f=10.3, J_c=float("inf"))
+    fig = plotting.objective_grid(records, jc_limit=2.0)
+    for ax in fig.axes[:2]:
+        curve = next(line for line in ax.get_lines() if line.get_label() == "dense grid")
+        x, y = np.asarray(curve.get_xdata(), float), np.asarray(curve.get_ydata(), float)
+        assert np.isnan(y[np.isclose(x, 1.8)]).all() and np.isclose(x, 1.8).any()
