@@ -41,7 +41,7 @@ def _suffix(fast: bool, rule: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--particles", type=int, default=24)
-    parser.add_argument("--iterations", type=int, default=20)
+    parser.add_argument("--iterations", type=int, default=None, help="default 20 (with --report: the run's target, if known)")
     parser.add_argument("--workers", type=int, default=0)
     parser.add_argument("--seed", type=int, default=2026)
     parser.add_argument("--checkpoint", default="", help="default runs/benchmark_codesign[_fast]_checkpoint.json")
@@ -67,7 +67,7 @@ def main() -> None:
     else:
         client = codesign.local_client(args.workers or None)
         n_workers = len(client.scheduler_info()["workers"])
-        state = codesign.run_codesign(args.particles, args.iterations, (0.015, 0.03), args.seed, client, checkpoint,
+        state = codesign.run_codesign(args.particles, args.iterations or 20, (0.015, 0.03), args.seed, client, checkpoint,
                                       synthesis_options=options, stop_after=args.stop_after, pso_rule=args.rule)
         client.close()
         particles, iterations = args.particles, state.iteration
@@ -87,10 +87,11 @@ def main() -> None:
         "best": {k: best[k] for k in ("h", "f", "J_c", "Z_c", "mass")},
         "source": args.report or "this run",
         "synthesis_algorithm": state.extra.get("algorithm"), "synthesis_options": state.extra.get("options"), "pso_rule": state.rule,
-        "complete": iterations >= args.iterations,
+        "complete": iterations >= (args.iterations or 20) if not args.report or args.iterations else None,  # a checkpoint has no target
     }
     print(json.dumps(out, indent=2))
     path = Path(args.json) if args.json else Path(__file__).parent / "results" / f"codesign{suffix}.json"
+    path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(out, indent=2) + "\n")
     print(f"saved {path}")
 

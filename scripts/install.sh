@@ -4,7 +4,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
 # OpenSeesPy (notebook 03's FE cross-check) links against the system BLAS/LAPACK runtime.
-if ! { ldconfig -p 2>/dev/null | grep -q 'libblas\.so\.3' && ldconfig -p 2>/dev/null | grep -q 'liblapack\.so\.3'; }; then
+# (the cache is read once, not piped into grep -q: under pipefail, grep's early exit gives ldconfig SIGPIPE and the
+# test fails at random; /sbin is not on a non-root user's PATH on Debian)
+libs="$(PATH="$PATH:/sbin:/usr/sbin" ldconfig -p 2>/dev/null || true)"
+if ! { grep -q 'libblas\.so\.3' <<<"$libs" && grep -q 'liblapack\.so\.3' <<<"$libs"; }; then
   if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null
   else

@@ -9,17 +9,24 @@
 # --params takes a YAML file of parameters applied to every notebook (unknown names
 # are ignored by the notebooks that do not declare them).
 set -euo pipefail
-cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
+usage="use --out DIR, --params FILE.yaml, --no-install"
 out="" params=""
 while [ $# -gt 0 ]; do
   case "$1" in
-    --out) out="$2"; shift 2 ;;
-    --params) params="$2"; shift 2 ;;
+    --out|--params) [ $# -ge 2 ] || { echo "$1 needs a value ($usage)" >&2; exit 2; }
+                    [ "$1" = --out ] && out="$2" || params="$2"; shift 2 ;;
     --no-install) NO_INSTALL=1; shift ;;
-    *) echo "unknown argument $1 (use --out DIR, --params FILE.yaml, --no-install)" >&2; exit 2 ;;
+    *) echo "unknown argument $1 ($usage)" >&2; exit 2 ;;
   esac
 done
+# paths given on the command line are the caller's, not the project folder's (the script changes folder below)
+case "$out" in ""|/*) ;; *) out="$PWD/$out" ;; esac
+case "$params" in ""|/*) ;; *) params="$PWD/$params" ;; esac
+[ -z "$params" ] || [ -f "$params" ] || { echo "no parameter file $params" >&2; exit 2; }
+cd "$(dirname "$0")/.."
+# the kernels (run in notebooks/) import this checkout's lib, whatever checkout is installed in editable mode
+export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
 # One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
 # process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).
@@ -38,7 +45,7 @@ mkdir -p "$nbdir"
 failed=()
 for nb in notebooks/[0-9][0-9]_*.ipynb; do
   echo "== $nb"
-  "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" "${extra[@]}" \
+  "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" ${extra[@]+"${extra[@]}"} \
     || failed+=("$(basename "$nb")")
 done
 echo "executed notebooks in $nbdir"

@@ -7,6 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
+# the nbval kernels (run in build/smoke) import this checkout's lib, whatever checkout is installed in editable mode
+export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
 # One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
 # process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).

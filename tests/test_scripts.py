@@ -23,3 +23,43 @@ def test_main_job_runs_every_notebook_and_reports_the_failed_one(tmp_path: Path)
     assert run.returncode == 1
     assert "FAILED" in run.stderr and "07_pso_codesign.ipynb" in run.stderr
     assert "08_worst_case_mu" not in run.stderr
+
+
+def _fake(tmp_path: Path, body: str) -> dict:
+    fake = tmp_path / "fakepython"
+    fake.write_text("#!/usr/bin/env bash\n" + body)
+    fake.chmod(0o755)
+    env = dict(os.environ, PYTHON=str(fake), NO_INSTALL="1")
+    env.pop("PYTHONPATH", None)
+    return env
+
+
+def test_relative_out_and_params_are_taken_from_the_callers_folder(tmp_path: Path) -> None:
+    calls = tmp_path / "calls.txt"
+    env = _fake(tmp_path, f"printf '%s\\n' \"$@\" > {calls}\n")
+    (tmp_path / "study.yaml").write_text("n_omega: 50\n")
+    run = subprocess.run(["bash", str(ROOT / "scripts" / "run_notebooks.sh"), "--params", "study.yaml", "--out", "runs/s"],
+                         cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    args = calls.read_text().split("\n")
+    assert args[args.index("-f") + 1] == str(tmp_path / "study.yaml")
+    assert args[args.index("figures_dir") + 1] == str(tmp_path / "runs" / "s" / "figures")
+    assert args[args.index("results_dir") + 1] == str(tmp_path / "runs" / "s" / "results")
+
+
+def test_missing_params_file_is_refused_before_any_notebook(tmp_path: Path) -> None:
+    calls = tmp_path / "calls.txt"
+    env = _fake(tmp_path, f"echo x >> {calls}\n")
+    run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--params", str(tmp_path / "nope.yaml"), "--out", str(tmp_path / "r")],
+                         cwd=ROOT, env=env, capture_output=True, text=True)
+    assert run.returncode == 2 and not calls.exists()
+
+
+def test_notebooks_import_the_library_of_this_checkout(tmp_path: Path) -> None:
+    # papermill runs the kernel in notebooks/: "import lib" must find this checkout's lib (whose paths.ROOT decides
+    # where figures and results go), not whichever checkout was last installed in editable mode
+    roots = tmp_path / "roots.txt"
+    import sys
+    env = _fake(tmp_path, f"cd notebooks && {sys.executable} -c 'import lib.paths; print(lib.paths.ROOT)' >> {roots}\n")
+    subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "r")], cwd=ROOT, env=env, capture_output=True, text=True)
+    assert set(roots.read_text().split()) == {str(ROOT.resolve())}
