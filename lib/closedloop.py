@@ -95,6 +95,9 @@ class LoopSettings:
             value = getattr(self, f.name)
             if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or not np.isfinite(value) or value <= 0:
                 raise ValueError(f"LoopSettings.{f.name} must be a finite positive number, got {value!r}")
+        if self.eps_max >= np.pi:  # an angle in rad: 50 (the paper's 50 urad in urad) would scale J_c by 1e-6, silently
+            raise ValueError(f"LoopSettings.eps_max is the largest RPE in rad and must be below pi, got {self.eps_max!r}: "
+                             "in microradians? (the paper's 50 urad is 50e-6)")
         if self.effort not in _EFFORT_KINDS:
             raise ValueError(f"LoopSettings.effort must be one of {_EFFORT_KINDS}, got {self.effort!r}")
 

@@ -19,7 +19,7 @@ import json
 import time
 import traceback
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, cast
 
@@ -153,6 +153,44 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     return out
 
 
+# options of design.robust_design itself; the others go to synthesis.synthesize, except those evaluate_particle sets
+_DESIGN_OPTIONS = ("spillover", "variants", "restarts")
+_SET_BY_PARTICLE = ("model", "inertia_p1", "settings", "gain0", "scenarios", "workers", "stability_models")
+
+
+def _check_synthesis_options(options: object) -> None:
+    """Raise (TypeError for an unknown name or a non-number, ValueError for a value out of range) unless ``options`` are
+    options :func:`evaluate_particle` can pass to :func:`lib.design.robust_design`: checked once, before any particle,
+    instead of failing every particle after its model is built."""
+    if options is None:
+        return
+    if not isinstance(options, Mapping):
+        raise TypeError(f"synthesis_options must be a dict of options of lib.design.robust_design, got {type(options).__name__}")
+    taken = sorted(set(options) & set(_SET_BY_PARTICLE))
+    if taken:
+        raise TypeError(f"synthesis_options cannot set {taken}: evaluate_particle sets them")
+    if "restarts" in options:
+        check_option("restarts", options["restarts"], 0, integer=True)
+    try:
+        synthesis.check_options({k: v for k, v in options.items() if k not in _DESIGN_OPTIONS})
+    except TypeError as exc:
+        raise TypeError(f"synthesis_options: {exc} (and {list(_DESIGN_OPTIONS)} of lib.design.robust_design)") from None
+
+
+def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, params: dict | None) -> None:
+    """Check what every particle of a batch would otherwise fail on, before any is evaluated: each h a section side in
+    metres inside the design range (:func:`lib.design.models_at` refuses the others), ``m0`` and the synthesis options."""
+    from .design import in_design_range
+
+    low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    h = np.asarray(hs, dtype=float)
+    if h.ndim != 1 or not h.size or not np.all(np.isfinite(h)) or not all(in_design_range(float(v), params) for v in h):
+        raise ValueError(f"hs must be a non-empty list of section sides in metres in the design range [{low}, {high}], "
+                         f"got {hs!r}")
+    objective_value(1.0, 0.0, m0)  # m0: a ValueError now, not after every particle's synthesis
+    _check_synthesis_options(synthesis_options)
+
+
 # Dask's nanny starts its workers with MALLOC_TRIM_THRESHOLD_=65536 (to hand freed memory back to the OS). Setting it
 # at all pins glibc's mmap threshold at 128 KiB, so every temporary array above that size is mmap'ed and page-faulted
 # anew: measured on this machine, a warm synthesis by the fast path took 33.3 s in a Dask worker, 16.8 s in a plain
@@ -209,6 +247,7 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     """
     from tqdm.auto import tqdm
 
+    _check_batch(hs, m0, synthesis_options, params)
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
     kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
     keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
@@ -302,6 +341,7 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     if h.ndim != 1 or not h.size or not np.all(np.isfinite(h) & (h > 0)):
         raise ValueError(f"hs must be a non-empty list of section sides in metres, all finite and > 0, got {hs!r}")
     check_option("chunk", chunk, 1, integer=True)
+    _check_batch(hs, kwargs.get("m0", M0_PAPER), kwargs.get("synthesis_options"), kwargs.get("params"))
     if key is None:
         key = {"h": h.tolist(), "settings": None if settings is None else settings.__dict__, "algorithm": synthesis.ALGORITHM,
                "kwargs": kwargs}
@@ -399,6 +439,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     check_option("n_iterations", n_iterations, 1, integer=True)
     _check_h_range(h_range, params)
     objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
+    _check_synthesis_options(synthesis_options)  # likewise: a bad option would fail every particle of every iteration
     objective = _objective_key(settings, params, m0)
     if checkpoint is not None and Path(checkpoint).exists():
         extra = pso.load_state(checkpoint).extra

@@ -133,7 +133,12 @@ def cantilever_from_modes(rigid_mass: ArrayLike, omega: ArrayLike, factors: Arra
     """
     d_p = np.asarray(rigid_mass, dtype=float)
     w = np.asarray(omega, dtype=float).reshape(-1)
-    lp = np.asarray(factors, dtype=float).reshape(w.size, 6)
+    lp = np.asarray(factors, dtype=float)
+    if lp.ndim == 1 and w.size == 1:  # one mode: a row of 6
+        lp = lp.reshape(1, -1)
+    if lp.shape != (w.size, 6):  # a transposed (6, n) array must not be reshaped (scrambled) silently
+        raise ValueError(f"factors must have shape (n, 6) = ({w.size}, 6), one row of participation factors per mode "
+                         f"(Tx Ty Tz Rx Ry Rz), got shape {lp.shape}")
     z = np.broadcast_to(np.asarray(damping, dtype=float), w.shape)
     if d_p.shape != (6, 6):
         raise ValueError(f"rigid_mass must be 6x6, got {d_p.shape}")

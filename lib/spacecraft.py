@@ -52,10 +52,30 @@ def _finite(value: float, name: str, positive: bool = False) -> float:
     return float(value)
 
 
+def _section_side(h: float, params: dict) -> float:
+    """``h`` [m] checked: finite, positive and at most a tenth of the cube side (Euler-Bernoulli members need a slenderness
+    of 10 or more), so that a side given in cm or mm is refused instead of building a truss of metre-thick beams."""
+    h = _finite(h, "h", positive=True)
+    tr = params["truss"]
+    limit = tr["cube_side"] / 10.0
+    if h > limit:
+        raise ValueError(f"h must be a section side in metres in (0, {limit:g}] (a tenth of the cube side: Euler-Bernoulli "
+                         f"members; design range {tr['h_range']} m), got {h!r}: a value in cm or mm?")
+    return h
+
+
+def _panel_angle(theta: float) -> float:
+    """``theta`` [rad] checked: finite and in [-pi, pi] (as :func:`scenario`), so that an angle in degrees is refused."""
+    theta = _finite(theta, "theta")
+    if abs(theta) > np.pi + 1e-12:
+        raise ValueError(f"theta must be a panel angle in [-pi, pi] rad, got {theta!r}: in degrees? (use np.deg2rad)")
+    return theta
+
+
 def truss_mass(h: float, params: dict | None = None) -> float:
     """T-truss mass ``rho h^2 * (total beam length)`` [kg] (183.11 kg at h = 3 cm)."""
     p = params or load_parameters()
-    h = _finite(h, "h", positive=True)
+    h = _section_side(h, p)
     nodes = truss_nodes(p["truss"]["cube_side"])
     length = sum(np.linalg.norm(nodes[a] - nodes[b]) for a, b in truss_members(p["truss"]["cube_side"]))
     return p["truss"]["density"] * h**2 * length
@@ -175,11 +195,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     Raises
     ------
     ValueError
-        For non-positive h, masses, inertias or frequencies, or a non-finite theta.
+        For non-positive h, masses, inertias or frequencies, h above a tenth of the cube side (e.g. given in cm), or theta
+        outside [-pi, pi] (e.g. given in degrees).
     """
     p = params or load_parameters()
-    h = _finite(h, "h", positive=True)
-    theta = _finite(theta, "theta")
+    h = _section_side(h, p)
+    theta = _panel_angle(theta)
     hub = p["hub"]
     m_hub = _finite(hub["mass"] if hub_mass is None else hub_mass, "hub_mass", positive=True)
     inertia = np.array(hub["inertia"], dtype=float)
@@ -273,9 +294,7 @@ def scenario(theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float |
     hub_mass, hub_iyy, panel_omega1 : float, optional
         Hub mass [kg], hub Iyy [kg m^2], first panel frequency [rad/s] (nominal if omitted).
     """
-    theta = _finite(theta, "theta")
-    if abs(theta) > np.pi + 1e-12:
-        raise ValueError(f"theta must be in [-pi, pi] rad (tau = tan(theta/4) in [-1, 1]), got {theta!r}")
+    theta = _panel_angle(theta)  # tau = tan(theta/4) in [-1, 1]
     unc = uncertain_parameters(params)
     out = {"tau": float(np.tan(theta / 4))}
     for name, value in (("M_SC", hub_mass), ("Iyy_SC", hub_iyy), ("omega1_SP", panel_omega1)):

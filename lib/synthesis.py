@@ -28,9 +28,10 @@ A synthesis that does not reach a stable, feasible, converged point is returned 
 
 from __future__ import annotations
 
+import inspect
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -47,7 +48,7 @@ from .lft import LFT
 from .modalloop import ModalLoop, sigma_max
 
 __all__ = ["ALGORITHM", "NOT_STABILISED", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
-           "plant_at", "default_scenarios", "exact_norms", "sigma_curve"]
+           "plant_at", "default_scenarios", "exact_norms", "sigma_curve", "check_options"]
 
 GROUPS = ("rpe", "effort")
 # Version of the optimiser: stored with cached results (co-design grid, swarm checkpoints) so that results of an
@@ -103,6 +104,21 @@ class Scenario:
 CORNERS = ((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, -1.0), (1.0, -1.0, 1.0))
 
 
+def _thetas_deg(thetas_deg: object, name: str = "thetas_deg") -> NDArray[np.float64]:
+    """Panel angles in degrees, checked: a non-empty 1-D list of finite angles in [-180, 180], and not a grid of several
+    angles all within pi (radians given for degrees would search a sliver of 3 deg of the panel range, silently)."""
+    try:
+        thetas = np.atleast_1d(np.asarray(thetas_deg, dtype=float))
+    except (TypeError, ValueError):
+        thetas = np.full(0, np.nan)
+    if thetas.ndim != 1 or not thetas.size or not np.all(np.isfinite(thetas)) or np.any(np.abs(thetas) > 180.0):
+        raise ValueError(f"{name} must be a non-empty list of panel angles in [-180, 180] deg, got {thetas_deg!r}")
+    if np.ptp(thetas) > 0 and np.max(np.abs(thetas)) <= np.pi + 1e-12:
+        raise ValueError(f"{name} are panel angles in degrees; {thetas_deg!r} all lie within pi: radians? "
+                         "(use np.rad2deg)")
+    return thetas
+
+
 def default_scenarios(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0, 180.0),
                       corners: Sequence[tuple[float, float, float]] = CORNERS) -> list[Scenario]:
     """Nominal, plus box corners of (M_SC, Iyy_SC, omega1_SP) at each panel angle [deg].
@@ -111,6 +127,8 @@ def default_scenarios(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0, 180
     inertia in opposite directions (the worst cases found by the searches at the paper's h).
     """
     out = [Scenario()]
+    if len(thetas_deg):
+        _thetas_deg(thetas_deg)
     for th in thetas_deg:
         for c in corners:
             out.append(Scenario(*c, float(np.deg2rad(th))))
@@ -479,10 +497,7 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     _check_option("max_evals", max_evals, 1, integer=True)
     _check_option("min_decay", min_decay, 0.0)
     _check_option("min_damping", min_damping, 0.0, 1.0, open_high=True)
-    thetas = np.linspace(0.0, 180.0, 10) if thetas_deg is None else np.atleast_1d(np.asarray(thetas_deg, dtype=float))
-    if thetas.ndim != 1 or not thetas.size or not np.all(np.isfinite(thetas)) or np.any(np.abs(thetas) > 180.0):
-        raise ValueError(f"thetas_deg must be a non-empty list of panel angles in [-180, 180] deg, got {thetas_deg!r}")
-    thetas = np.deg2rad(thetas)
+    thetas = np.deg2rad(np.linspace(0.0, 180.0, 10) if thetas_deg is None else _thetas_deg(thetas_deg))
     corners = [np.array(c) for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)] + [np.zeros(3)]
     evals = 0
     unstable: list[Scenario] = []
@@ -757,18 +772,10 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         are always from the dense path. Default False (the reference path).
     """
     t0 = time.perf_counter()
-    for name, value, low, high in (("min_damping", min_damping, 0.0, 1.0), ("min_damping_all", min_damping_all, 0.0, 1.0),
-                                   ("margin", margin, 0.0, 1.0)):
-        _check_option(name, value, low, high, open_high=True)
-    for name, value in (("omega_check", omega_check), ("min_decay", min_decay), ("cover_tol", cover_tol)):
-        _check_option(name, value, 0.0)
-    _check_option("search_damping", search_damping, 0.0, 1.0)
-    _check_option("band", band, 0.0, 1.0, open_low=True)
-    _check_option("tol", tol, 0.0, open_low=True)
-    _check_option("radius0", radius0, 0.0, open_low=True)
-    _check_option("max_iter", max_iter, 1, integer=True)
-    _check_option("max_rounds", max_rounds, 1, integer=True)
-    _n_workers(workers)
+    _check_scalar_options(min_damping=min_damping, omega_check=omega_check, min_damping_all=min_damping_all,
+                          search_damping=search_damping, max_iter=max_iter, max_rounds=max_rounds,
+                          search_thetas_deg=search_thetas_deg, min_decay=min_decay, band=band, margin=margin, tol=tol,
+                          cover_tol=cover_tol, radius0=radius0, workers=workers)
     settings = settings or LoopSettings.from_parameters()
     gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
@@ -828,6 +835,36 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         message = f"not a valid design: stable={stable}, Z_c={z_c:.4f} (bound {settings.gamma_u})"
     return SynthesisResult(gain, j_c, z_c, success, message, scen, worst, prob.iterations, time.perf_counter() - t0,
                            prob.evaluations, prob.history, prob.fallbacks(), searches)
+
+
+def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damping, max_iter, max_rounds, search_thetas_deg,
+                          min_decay, band, margin, tol, cover_tol, radius0, workers) -> None:
+    """The checks of :func:`synthesize`'s scalar options (before anything is computed)."""
+    for name, value, low, high in (("min_damping", min_damping, 0.0, 1.0), ("min_damping_all", min_damping_all, 0.0, 1.0),
+                                   ("margin", margin, 0.0, 1.0)):
+        _check_option(name, value, low, high, open_high=True)
+    for name, value in (("omega_check", omega_check), ("min_decay", min_decay), ("cover_tol", cover_tol)):
+        _check_option(name, value, 0.0)
+    _check_option("search_damping", search_damping, 0.0, 1.0)
+    _check_option("band", band, 0.0, 1.0, open_low=True)
+    _check_option("tol", tol, 0.0, open_low=True)
+    _check_option("radius0", radius0, 0.0, open_low=True)
+    _check_option("max_iter", max_iter, 1, integer=True)
+    _check_option("max_rounds", max_rounds, 1, integer=True)
+    if search_thetas_deg is not None:  # else checked by the first worst-case search, after a round of optimisation
+        _thetas_deg(search_thetas_deg, "search_thetas_deg")
+    _n_workers(workers)
+
+
+def check_options(options: Mapping[str, object]) -> None:
+    """Check keyword options of :func:`synthesize` without running it (e.g. before a co-design passes them to every
+    particle): a TypeError for an unknown name, and the errors :func:`synthesize` raises for a bad value."""
+    params = inspect.signature(synthesize).parameters
+    unknown = sorted(set(options) - set(params))
+    if unknown:
+        raise TypeError(f"unknown synthesis option(s) {unknown}; options of synthesize are {sorted(params)}")
+    names = inspect.signature(_check_scalar_options).parameters
+    _check_scalar_options(**{k: options.get(k, params[k].default) for k in names})
 
 
 @dataclass
