@@ -96,8 +96,13 @@ def rigid_hub(mass, inertia: ArrayLike, ports: Mapping[str, ArrayLike], referenc
     """
     from .lft import LFT, Parameter
 
+    if isinstance(mass, Parameter) and not mass.low > 0:
+        raise ValueError(f"mass parameter {mass.name!r} must have a positive range [kg] (1/m over it), got [{mass.low}, {mass.high}]")
     m_nom = mass.center if isinstance(mass, Parameter) else mass
     j = _mass_inertia(m_nom, inertia).copy()
+    eig = np.linalg.eigvalsh(j)
+    if not eig.min() > 1e-12 * eig.max():  # a free body: D^-1 needs J invertible (a zero or singular J was a LinAlgError)
+        raise ValueError(f"inertia of the hub must be symmetric positive-definite [kg m^2], got eigenvalues {eig}")
     if reference not in ports:
         raise ValueError(f"reference port {reference!r} must be one of the ports {list(ports)}")
     r_ref = frames.as_vector3(ports[reference], "reference position")

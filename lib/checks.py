@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_option", "check_members"]
+__all__ = ["check_option", "check_real", "check_members"]
 
 
 def check_option(name: str, value: object, low: float, high: float = np.inf, integer: bool = False,
@@ -21,6 +21,13 @@ def check_option(name: str, value: object, low: float, high: float = np.inf, int
     if not inside:
         lo_b, hi_b = "(" if open_low else "[", ")" if open_high or high == np.inf else "]"
         raise ValueError(f"{name} must be {kind} in {lo_b}{low:g}, {high:g}{hi_b}, got {value!r}")
+
+
+def check_real(name: str, value: object, unit: str = "") -> None:
+    """Raise a TypeError naming ``name`` unless ``value`` is a real number (int, float or their numpy kinds; not a bool,
+    a string or an array): the check of type that :func:`check_option` does, for values whose range is checked apart."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number{f' [{unit}]' if unit else ''}, got {type(value).__name__} {value!r}")
 
 
 def check_members(nodes, members, clamped=None) -> None:

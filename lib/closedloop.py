@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
+from .checks import check_option
 from .ports import close_static, frequency_response
 
 __all__ = ["LoopSettings", "GeneralizedPlant", "generalized_plant", "rpe_weight", "pma_filter", "acs_gains",
@@ -317,6 +318,9 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
         raise ValueError(f"n_delta must be a non-negative integer (the open Delta channels), got {n_delta!r}")
     if not 0.0 < rank_rtol < 1.0:
         raise ValueError(f"rank_rtol must be in (0, 1), got {rank_rtol!r}")
+    check_option("min_pole", min_pole, 0.0, np.inf, open_high=True)
+    if not all(np.all(np.isfinite(m)) for m in (a, b, c, d)):
+        raise ValueError("A, B, C and D must be finite (no NaN or inf)")
     nd = int(n_delta)
     n = a.shape[0] if a.ndim == 2 else -1
     if d.shape != (nd + len(OUTPUTS), nd + len(INPUTS)) or a.shape != (n, n) or b.shape != (n, d.shape[1]) or c.shape != (d.shape[0], n):

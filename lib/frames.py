@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .checks import check_real
+
 __all__ = [
     "skew",
     "tau",
@@ -94,20 +96,30 @@ def twice_dcm(rot: ArrayLike) -> NDArray[np.float64]:
     return out
 
 
+def _angle(angle: float) -> None:
+    """A TypeError / ValueError unless ``angle`` is a finite real number [rad] (NaN would give a NaN matrix)."""
+    check_real("angle", angle, "rad")
+    if not np.isfinite(angle):
+        raise ValueError(f"angle must be a finite number [rad], got {angle!r}")
+
+
 def rot_x(angle: float) -> NDArray[np.float64]:
     """DCM of a rotation by ``angle`` [rad] about x: components in the rotated frame -> base."""
+    _angle(angle)
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
 def rot_y(angle: float) -> NDArray[np.float64]:
     """DCM of a rotation by ``angle`` [rad] about y: components in the rotated frame -> base."""
+    _angle(angle)
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def rot_z(angle: float) -> NDArray[np.float64]:
     """DCM of a rotation by ``angle`` [rad] about z: components in the rotated frame -> base."""
+    _angle(angle)
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
+from .checks import check_real
 from .ports import close_static, frequency_response, invert_channels, state_space_arrays
 
 __all__ = ["Parameter", "LFT", "block_runs"]
@@ -52,6 +53,7 @@ class Parameter:
 
     def __post_init__(self) -> None:
         for val, nm in ((self.nominal, "nominal"), (self.low, "low"), (self.high, "high")):
+            check_real(f"parameter {self.name!r}: {nm}", val)
             if not np.isfinite(val):
                 raise ValueError(f"parameter {self.name!r}: {nm} must be finite, got {val!r}")
         if not self.low < self.high:
@@ -61,9 +63,14 @@ class Parameter:
 
     @classmethod
     def percent(cls, name: str, nominal: float, percent: float, tunable: bool = False) -> "Parameter":
-        """Parameter ``nominal * (1 +- percent/100)``."""
+        """Parameter ``nominal * (1 +- percent/100)``, ``0 < percent < 100``."""
+        check_real(f"parameter {name!r}: nominal", nominal)
+        check_real(f"parameter {name!r}: percent", percent)
         if not percent > 0:
             raise ValueError(f"percent must be positive, got {percent!r}")
+        if percent >= 100:
+            raise ValueError(f"parameter {name!r}: percent must be below 100, got {percent!r}: the range nominal * (1 +- "
+                             f"{percent!r} / 100) would reach or cross zero (the parameter would change sign)")
         span = abs(nominal) * percent / 100.0
         return cls(name, nominal, nominal - span, nominal + span, tunable)
 
@@ -85,7 +92,11 @@ class Parameter:
         return float(delta)
 
     def from_delta(self, delta: float) -> float:
-        """Physical value of a normalised ``delta``."""
+        """Physical value of a normalised ``delta`` in [-1, 1] (tolerance 1e-12; no extrapolation out of the range)."""
+        check_real(f"parameter {self.name!r}: delta", delta)
+        if not (np.isfinite(delta) and abs(delta) <= 1.0 + 1e-12):
+            raise ValueError(f"parameter {self.name!r}: delta must be a normalised value in [-1, 1], got {delta!r}: no "
+                             f"extrapolation out of the range [{self.low}, {self.high}] (a physical value? it is the value itself)")
         return self.center + self.half_range * float(delta)
 
 

@@ -37,6 +37,7 @@ from scipy import linalg
 from numpy.typing import ArrayLike, NDArray
 
 from . import frames
+from .checks import check_option
 
 __all__ = [
     "COMPONENTS",
@@ -60,6 +61,10 @@ _COMP_INDEX = {c: i for i, c in enumerate(COMPONENTS)}
 def state_space_arrays(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """``(A, B, C, D)`` as 2-D float arrays, checked: A square, B and C consistent with A and D (only an empty B or C
     is reshaped: a transposed one of the right size must not be scrambled silently), all finite."""
+    for x, nm in ((a, "A"), (b, "B"), (c, "C"), (d, "D")):
+        if np.iscomplexobj(x):  # converting to float would drop the imaginary part with only a ComplexWarning
+            raise TypeError(f"{nm} must be real, got a complex array (a real-coefficient model; take .real if the imaginary "
+                            "part is round-off)")
     a = np.atleast_2d(np.asarray(a, float)) if np.size(a) else np.zeros((0, 0))
     d = np.atleast_2d(np.asarray(d, float))
     n = a.shape[0]
@@ -504,6 +509,10 @@ class MultiPortModel:
         ValueError
             If an index does not exist or the channel set is not invertible.
         """
+        channels = list(channels)
+        odd = [i for i in channels if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer))]
+        if odd:
+            raise TypeError(f"channels must be integer indices, got {odd!r}")
         idx = [int(i) - (1 if one_based else 0) for i in channels]
         bad = [i for i in idx if not 0 <= i < self.nchannels]
         if bad:
@@ -791,6 +800,7 @@ def connect(models: Sequence[MultiPortModel], name: str = "assembly", order: Seq
     """
     if not models:
         raise ValueError("connect needs at least one model")
+    check_option("atol", atol, 0.0, np.inf, open_high=True)  # [m]; a negative or NaN atol refused every shared node
     offs_x = np.cumsum([0] + [m.nstates for m in models])
     offs_c = np.cumsum([0] + [m.nchannels for m in models])
     n_x, n_c = int(offs_x[-1]), int(offs_c[-1])

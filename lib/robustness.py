@@ -250,6 +250,8 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     angles = np.atleast_1d(np.asarray(thetas, dtype=float))
     if angles.ndim != 1 or not angles.size or not np.all(np.isfinite(angles)):
         raise ValueError(f"thetas must be a non-empty 1-D array of finite panel angles [rad], got {thetas!r}")
+    if np.any(np.abs(angles) > np.pi + 1e-12):
+        raise ValueError(f"thetas must be panel angles in [-pi, pi] rad, got {thetas!r}: in degrees? (use np.deg2rad)")
     if partial is not None and not partial_key:
         raise ValueError("partial_key is required with partial: give what identifies model_low (e.g. {'h': h, 'parameters': ...}), "
                          "or angles of another model could be reused")

@@ -85,6 +85,8 @@ def component_masses(h: float, hub_mass: float | None = None, params: dict | Non
     """Mass of each component [kg]: hub, truss, panels, antenna, PMAs (casing + proof mass)."""
     p = params or load_parameters()
     pm = p["pma"]
+    if hub_mass is not None:
+        _finite(hub_mass, "hub_mass", positive=True)  # as open_loop (the value itself is returned, unconverted)
     return {
         "hub": p["hub"]["mass"] if hub_mass is None else hub_mass,
         "truss": truss_mass(h, p),
@@ -362,8 +364,8 @@ def load_preset(name: str) -> dict:
 
     Presets are separate studies (e.g. ``paper_match``), never the default parameters.
     """
-    path = paths.DATA / "spacecraft" / "presets" / f"{name}.json"
-    if not path.exists():
-        known = sorted(p.stem for p in path.parent.glob("*.json"))
-        raise ValueError(f"unknown preset {name!r}; available: {known}")
-    return json.loads(path.read_text())
+    folder = paths.DATA / "spacecraft" / "presets"
+    known = sorted(p.stem for p in folder.glob("*.json"))
+    if not isinstance(name, str) or name not in known:  # a name, not a path: "../parameters" must not reach other files
+        raise ValueError(f"unknown preset {name!r}: give the name of a file of {folder} without .json; available: {known}")
+    return json.loads((folder / f"{name}.json").read_text())

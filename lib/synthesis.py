@@ -42,6 +42,7 @@ from scipy.optimize import linprog, minimize
 from threadpoolctl import threadpool_limits
 
 from .checks import check_option as _check_option
+from .checks import check_real as _check_real
 from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from .lft import LFT
@@ -73,6 +74,8 @@ class Scenario:
     theta: float = 0.0
 
     def __post_init__(self) -> None:
+        for name in ("d_mass", "d_iyy", "d_omega1", "theta"):
+            _check_real(f"Scenario.{name}", getattr(self, name), "rad" if name == "theta" else "")
         for name in ("d_mass", "d_iyy", "d_omega1"):
             v = getattr(self, name)
             if not (np.isfinite(v) and abs(v) <= 1 + 1e-12):
@@ -159,6 +162,11 @@ def plant_at(model: LFT, scenario: Scenario, inertia_p1: ArrayLike, settings: Lo
 
     The pole check of :func:`lib.closedloop.generalized_plant` is skipped here: ``model`` comes from a modal
     reduction that removed the slow poles, and the worst-case search builds thousands of plants from it."""
+    if isinstance(keep, str):
+        raise TypeError(f"keep must be a sequence of parameter names, got the str {keep!r} (use [{keep!r}])")
+    unknown = [k for k in keep if k not in model.params]
+    if unknown:
+        raise ValueError(f"keep names {unknown}, which are not parameters of the model; its parameters are {sorted(model.params)}")
     values = {k: v for k, v in scenario.normalized().items() if k not in keep}
     sub = model.substitute(values, normalized=True)
     return generalized_plant(sub.a, sub.b, sub.c, sub.d, inertia_p1, settings, n_delta=sub.n_delta, min_pole=0.0)
@@ -787,6 +795,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         if np.shape(variant[1]) != (3, 3) or not np.all(np.isfinite(variant[1])):
             raise ValueError(f"variants[{i}]: the inertia at P1 must be a finite 3x3 matrix [kg m^2], got shape {np.shape(variant[1])}")
     scen = list(default_scenarios() if scenarios is None else scenarios)
+    if not scen:
+        raise ValueError("scenarios must hold at least one Scenario (None: default_scenarios()), got an empty set")
+    for i, sc in enumerate(scen):
+        if not isinstance(sc, Scenario):
+            raise TypeError(f"scenarios[{i}] must be a Scenario, got {type(sc).__name__}")
     loops = [(model, inertia_p1)] + [(m, inertia) for m, inertia in variants]
     worst: WorstCase | None = None
     searches = 0

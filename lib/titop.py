@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize
 
 from . import frames
+from .checks import check_option
 from .ports import MultiPortModel, delta_port, node_port
 
 __all__ = [
@@ -172,6 +173,13 @@ class ModalData:
     damping: NDArray[np.float64]
 
 
+def _check_section(section: object) -> None:
+    """A TypeError unless ``section`` is a :class:`Section` (a bare side h [m] is no section)."""
+    if not isinstance(section, Section):
+        raise TypeError(f"section must be a lib.titop.Section, got {type(section).__name__} {section!r}: for a square section "
+                        "of side h [m] use Section.square(h)")
+
+
 def rigid_mass(length: float, section: Section) -> NDArray[np.float64]:
     """Rigid mass matrix of the beam at P (6x6), body frame, P at the origin, C at (l, 0, 0).
 
@@ -180,6 +188,7 @@ def rigid_mass(length: float, section: Section) -> NDArray[np.float64]:
     inertia in bending).
     """
     length = _positive(length, "length", "m")
+    _check_section(section)
     m = section.density * section.area * length
     j_g = np.diag([section.density * section.polar * length, m * length**2 / 12.0, m * length**2 / 12.0])
     t_gp = frames.tau([-length / 2.0, 0.0, 0.0])
@@ -291,6 +300,7 @@ def modal_data(length: float, section: Section, n_modes: int = 1) -> ModalData:
         Modes sorted by frequency.
     """
     length = _positive(length, "length", "m")
+    _check_section(section)
     if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
         raise ValueError(f"n_modes must be an integer >= 1, got {n_modes!r}")
     s = section
@@ -385,6 +395,7 @@ def beam(p: tuple[str, ArrayLike], c: tuple[str, ArrayLike], section: Section, n
     h_param : lib.lft.Parameter, optional
         Square-section side as an LFT parameter (scaled signals, see :func:`clamped_free_lft`).
     """
+    _check_section(section)
     if y_hint is None and not section.symmetric:
         raise ValueError(f"a section with Iy = {section.iy:.4g} != Iz = {section.iz:.4g} [m^4] needs y_hint (the direction "
                          "of the beam's y axis in the common frame)")
@@ -427,6 +438,7 @@ def clamped_free_lft(length: float, section: Section, h_param, n_modes: int = 1,
     """
     from .lft import LFT
 
+    _check_section(section)
     # the torsion choice from J / (Iy + Iz), which is independent of h for a square section (both scale as h^4); an
     # absolute tolerance would take every J below 1e-8 m^4 (h < 2.5 cm) for polar
     ratio = section.torsion_constant / (section.iy + section.iz)
@@ -484,6 +496,8 @@ def analytic_frequencies(length: float, section: Section, motion: str, boundary:
         Number of frequencies.
     """
     length = _positive(length, "length", "m")
+    _check_section(section)
+    check_option("n", n, 1, integer=True)
     s = section
     k = np.arange(1, n + 1)
     if motion in ("axial", "torsion"):

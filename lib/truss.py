@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import frames
+from .checks import check_real
 from .cube import cube_cccc_ffff, cube_members, cube_nodes
 from .ports import MultiPortModel, connect
 from .titop import Section
@@ -48,6 +49,7 @@ CUBES: dict[str, tuple[float, tuple[float, float, float]]] = {
 
 def truss_nodes(a: float = 1.0) -> dict[str, np.ndarray]:
     """Positions [m] of N1..N24 in the truss frame (origin N1)."""
+    check_real("cube side a", a, "m")
     if not (np.isfinite(a) and a > 0):
         raise ValueError(f"cube side a must be a positive length [m], got {a!r}")
     corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
