@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_option", "check_real", "check_members"]
+__all__ = ["check_option", "check_real", "check_panel_angles", "check_members"]
 
 
 def check_option(name: str, value: object, low: float, high: float = np.inf, integer: bool = False,
@@ -28,6 +28,14 @@ def check_real(name: str, value: object, unit: str = "") -> None:
     a string or an array): the check of type that :func:`check_option` does, for values whose range is checked apart."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a real number{f' [{unit}]' if unit else ''}, got {type(value).__name__} {value!r}")
+
+
+def check_panel_angles(name: str, values: object) -> None:
+    """Raise a ValueError naming ``name`` unless every value is a finite panel angle in [-pi, pi] rad (1e-12 tolerance):
+    an angle in degrees is the likely mistake, and the message says so."""
+    angles = np.atleast_1d(np.asarray(values, dtype=float))
+    if not (np.all(np.isfinite(angles)) and np.all(np.abs(angles) <= np.pi + 1e-12)):
+        raise ValueError(f"{name} must be panel angles in [-pi, pi] rad, got {values!r}: in degrees? (use np.deg2rad)")
 
 
 def check_members(nodes, members, clamped=None) -> None:

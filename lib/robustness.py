@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from threadpoolctl import threadpool_limits
 
+from .checks import check_panel_angles
 from .closedloop import LoopSettings
 from .lft import LFT, block_runs
 from .mu import wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
@@ -250,8 +251,7 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     angles = np.atleast_1d(np.asarray(thetas, dtype=float))
     if angles.ndim != 1 or not angles.size or not np.all(np.isfinite(angles)):
         raise ValueError(f"thetas must be a non-empty 1-D array of finite panel angles [rad], got {thetas!r}")
-    if np.any(np.abs(angles) > np.pi + 1e-12):
-        raise ValueError(f"thetas must be panel angles in [-pi, pi] rad, got {thetas!r}: in degrees? (use np.deg2rad)")
+    check_panel_angles("thetas", angles)
     if partial is not None and not partial_key:
         raise ValueError("partial_key is required with partial: give what identifies model_low (e.g. {'h': h, 'parameters': ...}), "
                          "or angles of another model could be reused")

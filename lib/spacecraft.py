@@ -24,6 +24,7 @@ import control as ct
 import numpy as np
 
 from . import bodies, frames, paths
+from .checks import check_panel_angles
 from .lft import LFT, Parameter
 from .ports import MultiPortModel, connect
 from .reduction import modal_reduction, static_gain
@@ -67,8 +68,7 @@ def _section_side(h: float, params: dict) -> float:
 def _panel_angle(theta: float) -> float:
     """``theta`` [rad] checked: finite and in [-pi, pi] (as :func:`scenario`), so that an angle in degrees is refused."""
     theta = _finite(theta, "theta")
-    if abs(theta) > np.pi + 1e-12:
-        raise ValueError(f"theta must be a panel angle in [-pi, pi] rad, got {theta!r}: in degrees? (use np.deg2rad)")
+    check_panel_angles("theta", theta)
     return theta
 
 

@@ -42,6 +42,7 @@ from scipy.optimize import linprog, minimize
 from threadpoolctl import threadpool_limits
 
 from .checks import check_option as _check_option
+from .checks import check_panel_angles
 from .checks import check_real as _check_real
 from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
@@ -80,8 +81,7 @@ class Scenario:
             v = getattr(self, name)
             if not (np.isfinite(v) and abs(v) <= 1 + 1e-12):
                 raise ValueError(f"Scenario.{name} is a normalised value and must be in [-1, 1], got {v!r}")
-        if not (np.isfinite(self.theta) and abs(self.theta) <= np.pi + 1e-12):
-            raise ValueError(f"Scenario.theta must be in [-pi, pi] rad, got {self.theta!r}")
+        check_panel_angles("Scenario.theta", self.theta)
 
     def normalized(self) -> dict[str, float]:
         """Normalised values for :meth:`lib.lft.LFT.substitute` (``normalized=True``)."""
