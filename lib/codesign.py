@@ -335,13 +335,12 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     Raises
     ------
     ValueError
-        If ``hs`` is empty or holds a section side that is not a finite positive length [m], or ``chunk`` < 1.
+        If ``hs`` is empty or holds a section side outside the design range [m], or ``chunk`` < 1; also for a bad ``m0``
+        or ``synthesis_options``, before any point is evaluated.
     """
-    h = np.asarray(hs, dtype=float)
-    if h.ndim != 1 or not h.size or not np.all(np.isfinite(h) & (h > 0)):
-        raise ValueError(f"hs must be a non-empty list of section sides in metres, all finite and > 0, got {hs!r}")
-    check_option("chunk", chunk, 1, integer=True)
     _check_batch(hs, kwargs.get("m0", M0_PAPER), kwargs.get("synthesis_options"), kwargs.get("params"))
+    check_option("chunk", chunk, 1, integer=True)
+    h = np.asarray(hs, dtype=float)
     if key is None:
         key = {"h": h.tolist(), "settings": None if settings is None else settings.__dict__, "algorithm": synthesis.ALGORITHM,
                "kwargs": kwargs}

@@ -196,10 +196,8 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
     shifts = list(shifts)
     for shift in shifts:
         if not (isinstance(shift, (int, float, np.integer, np.floating)) and not isinstance(shift, bool)
-                and np.isfinite(shift) and shift > -1):
-            raise ValueError(f"each truss shift must be a finite relative change > -1, got {shift!r}")
-        if abs(shift) >= 1:
-            raise ValueError(f"each truss shift must be a relative change in (-1, 1), e.g. 0.01 for 1 %, got {shift!r}: "
+                and np.isfinite(shift) and abs(shift) < 1):
+            raise ValueError(f"each truss shift must be a finite relative change in (-1, 1), e.g. 0.01 for 1 %, got {shift!r}: "
                              "in percent? (divide by 100)")
     checked: dict[str, NDArray] = {name: np.asarray(gain, dtype=float) for name, gain in gains.items()}
     for name, k in checked.items():

@@ -42,8 +42,7 @@ from scipy.optimize import linprog, minimize
 from threadpoolctl import threadpool_limits
 
 from .checks import check_option as _check_option
-from .checks import check_panel_angles
-from .checks import check_real as _check_real
+from .checks import check_panel_angles, check_real as _check_real
 from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from .lft import LFT
