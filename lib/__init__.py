@@ -7,7 +7,7 @@ h-parametrised LFT beam), ``mechanisms`` (L-chain, triangle, square), ``cube``, 
 ``lft`` (uncertain/tunable parameters and LFT algebra), ``reduction`` (spurious slow poles,
 modal reduction), ``modal`` (participation factors, models from modal data), ``assembly``
 (direct constrained assembly), ``frame_fe`` and ``opensees_fe`` (finite-element references),
-``paths``, ``plotting``, ``results``.
+``timedomain`` (worst-case sinusoid from rest), ``paths``, ``plotting``, ``results``.
 """
 
 __version__ = "0.1.0"

@@ -16,7 +16,7 @@ from .paths import resolve
 if TYPE_CHECKING:
     from mpl_toolkits.mplot3d import Axes3D
 
-__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels", "objective_grid"]
+__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels", "objective_grid", "sine_build_up"]
 
 
 def savefig(fig: plt.Figure, name: str, figures_dir: str | Path = "figures") -> Path:
@@ -158,3 +158,51 @@ def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, titl
     axes[0].legend(fontsize=8)
     axes[1].legend(fontsize=8)
     return fig
+
+
+def sine_build_up(ax: plt.Axes, t: ArrayLike, outputs: ArrayLike, steady: ArrayLike, tau: float, scale: float, bound: float,
+                  labels: Sequence[str], quantity: str, unit: str, zoom: float | None = None) -> None:
+    """Outputs of a response from rest to a sinusoid (:func:`lib.timedomain.sine_response`) in physical units.
+
+    Parameters
+    ----------
+    t : array_like (n,)
+        Time [s].
+    outputs : array_like (q, n)
+        Normalised outputs; ``scale`` converts them to ``unit``.
+    steady : array_like (q,), complex
+        Their steady-state complex amplitudes: the envelope ``|steady_k| (1 - e^{-t/tau})`` is drawn for the largest.
+    tau : float
+        Time constant of the envelope [s].
+    bound : float
+        The requirement, in ``unit`` (drawn at +-bound).
+    labels, quantity, unit : str
+        Output names, the y-axis quantity and its unit.
+    zoom : float, optional
+        Length [s] of the end of the record shown again in an inset beside the axes (the waveform, which the full record
+        hides).
+    """
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(outputs, dtype=float) * scale
+    for k, lab in enumerate(labels):
+        ax.plot(t, y[k], lw=0.4, color=f"C{k}", label=lab)
+    amp = float(np.abs(np.asarray(steady)).max()) * scale
+    env = amp * (1 - np.exp(-t / tau))
+    ax.plot(t, env, "k--", lw=1, label=f"envelope of the largest steady amplitude ({amp:.3g} {unit}), tau = {tau:.0f} s")
+    ax.plot(t, -env, "k--", lw=1)
+    ax.axhline(bound, color="C3", lw=1, label=f"requirement +-{bound:g} {unit}")
+    ax.axhline(-bound, color="C3", lw=1)
+    ax.set(xlabel="time [s]", ylabel=f"{quantity} [{unit}]", xlim=(t[0], t[-1]))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncol=3, loc="lower left")
+    if zoom is not None:
+        end = t >= t[-1] - zoom
+        inset = ax.inset_axes((1.03, 0.0, 0.2, 1.0), sharey=ax)  # beside the axes: the record fills them
+        for k in range(len(labels)):
+            inset.plot(t[end], y[k, end], lw=0.8, color=f"C{k}")
+        inset.set_title(f"the last {zoom:.3g} s", fontsize=9)
+        inset.set_xlabel("time [s]", fontsize=8)
+        for level in (bound, -bound):
+            inset.axhline(level, color="C3", lw=1)
+        inset.tick_params(labelsize=7, labelleft=False)
+        inset.grid(alpha=0.3)

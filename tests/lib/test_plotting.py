@@ -71,3 +71,27 @@ def test_objective_grid_breaks_the_curves_at_penalised_points():
         curve = next(line for line in ax.get_lines() if line.get_label() == "dense grid")
         x, y = np.asarray(curve.get_xdata(), float), np.asarray(curve.get_ydata(), float)
         assert np.isnan(y[np.isclose(x, 1.8)]).all() and np.isclose(x, 1.8).any()
+
+
+def test_sine_build_up_in_physical_units_with_envelope_and_bounds():
+    """Outputs scaled to their unit, the envelope of the largest steady amplitude, the requirement at +-bound."""
+    import matplotlib.pyplot as plt
+
+    t = np.linspace(0.0, 100.0, 501)
+    outputs = np.vstack([0.2 * np.sin(t), 0.1 * np.cos(t)])
+    fig, ax = plt.subplots()
+    plotting.sine_build_up(ax, t, outputs, np.array([0.2j, 0.1]), tau=25.0, scale=50.0, bound=50.0,
+                           labels=["LOS x", "LOS y"], quantity="weighted LOS error", unit="µrad")
+    lines = {line.get_label(): line for line in ax.get_lines()}
+    assert np.allclose(lines["LOS x"].get_ydata(), 10.0 * np.sin(t)) and np.allclose(lines["LOS y"].get_ydata(), 5.0 * np.cos(t))
+    env = next(line for label, line in lines.items() if label.startswith("envelope"))
+    assert np.allclose(env.get_ydata(), 10.0 * (1 - np.exp(-t / 25.0)))
+    bounds = [line for label, line in lines.items() if label.startswith("requirement")]
+    assert len(bounds) == 1 and np.allclose(bounds[0].get_ydata(), 50.0)
+    assert ax.get_ylabel() == "weighted LOS error [µrad]" and ax.get_xlabel() == "time [s]"
+    # the end of the record again in an inset
+    fig, ax = plt.subplots()
+    plotting.sine_build_up(ax, t, outputs, np.array([0.2j, 0.1]), 25.0, 50.0, 50.0, ["LOS x", "LOS y"], "error", "µrad", zoom=10.0)
+    (inset,) = ax.child_axes
+    x = inset.get_lines()[0].get_xdata()
+    assert x.min() >= 90.0 - 1e-9 and x.max() == 100.0 and np.allclose(inset.get_lines()[0].get_ydata(), 10.0 * np.sin(x))

@@ -1,0 +1,125 @@
+"""Time-domain worst case (lib.timedomain): the time stepping and the closed form against a 1-DOF oscillator solved by
+hand, the build-up to the H-infinity gain on a MIMO system, and the spacecraft's closed loop against its peaks."""
+
+import numpy as np
+import pytest
+
+from lib import design, timedomain
+from lib.closedloop import LoopSettings
+from lib.synthesis import Scenario, loop_peaks, plant_at
+
+WN, ZETA = 3.0, 0.02
+
+
+def oscillator():
+    """x'' + 2 zeta wn x' + wn^2 x = u, y = x (states x, x')."""
+    a = np.array([[0.0, 1.0], [-WN**2, -2 * ZETA * WN]])
+    return a, np.array([[0.0], [1.0]]), np.array([[1.0, 0.0]]), np.zeros((1, 1))
+
+
+def oscillator_by_hand(w, t):
+    """Response from rest to cos(w t): steady state plus the free response that cancels its initial state."""
+    g = 1.0 / (WN**2 - w**2 + 2j * ZETA * WN * w)
+    x0, v0 = g.real, (1j * w * g).real  # steady-state position and velocity at t = 0
+    wd = WN * np.sqrt(1 - ZETA**2)
+    amp_c = -x0
+    amp_s = (-v0 + ZETA * WN * amp_c) / wd
+    return (g * np.exp(1j * w * t)).real + np.exp(-ZETA * WN * t) * (amp_c * np.cos(wd * t) + amp_s * np.sin(wd * t))
+
+
+@pytest.mark.parametrize("w", [WN, 0.5 * WN, 2.2 * WN])
+def test_oscillator_from_rest_against_hand_solution(w):
+    a, b, c, d = oscillator()
+    res = timedomain.sine_response(a, b, c, d, w, duration=60.0, samples_per_period=64)
+    ref = oscillator_by_hand(w, res.t)
+    scale = np.abs(ref).max()
+    assert np.allclose(res.direction, [1.0])  # a single input: its direction is the input itself
+    # time stepping: exact for an input linear between samples; the error is that of the interpolated cosine
+    assert np.abs(res.outputs[0] - ref).max() < 2e-3 * scale
+    assert np.abs(timedomain.exact_sine_response(a, b, c, d, w, [1.0], res.t)[0] - ref).max() < 1e-10 * scale
+    assert res.sigma == pytest.approx(1.0 / abs(WN**2 - w**2 + 2j * ZETA * WN * w), rel=1e-12)
+
+
+def test_error_of_the_time_step_falls_as_its_square():
+    a, b, c, d = oscillator()
+    errors = []
+    for n in (16, 32, 64):
+        res = timedomain.sine_response(a, b, c, d, WN, duration=30.0, samples_per_period=n)
+        errors.append(np.abs(res.outputs[0] - oscillator_by_hand(WN, res.t)).max())
+    assert 3.0 < errors[0] / errors[1] < 5.0 and 3.0 < errors[1] / errors[2] < 5.0
+
+
+def mimo():
+    """Two lightly damped modes (1 and 1.3 rad/s), two inputs, two outputs, coupled."""
+    rng = np.random.default_rng(7)
+    blocks = [np.array([[0.0, 1.0], [-w**2, -2 * 0.01 * w]]) for w in (1.0, 1.3)]
+    a = np.block([[blocks[0], np.zeros((2, 2))], [np.zeros((2, 2)), blocks[1]]])
+    return a, rng.normal(size=(4, 2)), rng.normal(size=(2, 4)), np.zeros((2, 2))
+
+
+def test_mimo_builds_up_to_the_largest_singular_value_along_the_worst_direction():
+    a, b, c, d = mimo()
+    w = 1.0
+    sigma, v = timedomain.worst_direction(a, b, c, d, w)
+    s = np.linalg.svd(c @ np.linalg.solve(1j * w * np.eye(4) - a, b), compute_uv=False)
+    assert sigma == pytest.approx(s[0], rel=1e-12)
+    # 12 time constants of the slower mode (1 / (0.01 x 1 rad/s) = 100 s): the transient is below 1e-5 of the steady state
+    res = timedomain.sine_response(a, b, c, d, w, duration=1200.0, samples_per_period=64)
+    assert np.allclose(res.direction, v)
+    assert np.linalg.norm(res.amplitude(periods=10)) == pytest.approx(sigma, rel=2e-3)
+    assert np.abs(res.outputs - timedomain.exact_sine_response(a, b, c, d, w, v, res.t)).max() < 2e-3 * sigma
+    # the other direction reaches the second singular value only
+    other = timedomain.sine_response(a, b, c, d, w, duration=1200.0, samples_per_period=64,
+                                     direction=np.linalg.svd(c @ np.linalg.solve(1j * w * np.eye(4) - a, b))[2][1].conj())
+    assert np.linalg.norm(other.amplitude()) == pytest.approx(s[1], rel=2e-3)
+    # early on, the envelope is still far below: 20 s is 0.2 time constants
+    early = timedomain.sine_response(a, b, c, d, w, duration=20.0, samples_per_period=64)
+    assert np.linalg.norm(early.amplitude(periods=1)) < 0.3 * sigma
+
+
+def test_spacecraft_closed_loop_at_its_peak(model, inertia):
+    """At notebook 06's design, on one scenario: the worst sinusoid at the RPE peak of loop_peaks has that peak as its
+    gain, and the simulated response (dense 200-state closed loop) follows the closed form."""
+    settings = LoopSettings.from_parameters()
+    _, _, gain = design.stored_design("06", "data/results", 0.02139)
+    plant = plant_at(model, Scenario(1.0, -1.0, 1.0, np.deg2rad(60.0)), inertia, settings)
+    peaks = loop_peaks(plant, gain)
+    w = peaks.omega("rpe")
+    res = timedomain.loop_sine_response(plant, gain, "rpe", w, duration=40 * 2 * np.pi / w)
+    assert res.sigma == pytest.approx(peaks.norm("rpe"), rel=1e-6)
+    a, b, c, d = plant.closed_loop(gain)
+    sl = plant.slices()
+    at = np.linspace(0, res.t.size - 1, 60).astype(int)
+    exact = timedomain.exact_sine_response(a, b[:, sl["p"]], c[sl["rpe"]], d[sl["rpe"], sl["p"]], w, res.direction, res.t[at])
+    assert np.abs(res.outputs[:, at] - exact).max() < 5e-3 * res.sigma
+    assert res.outputs.shape == (2, res.t.size) and res.inputs.shape == (2, res.t.size)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(omega=0.0), "omega"),
+    (dict(omega=-1.0), "omega"),
+    (dict(duration=1.0), "duration"),  # shorter than the period (2 pi / 3 s)
+    (dict(duration=np.inf), "duration"),
+    (dict(samples_per_period=4), "samples_per_period"),
+    (dict(samples_per_period=32.0), "samples_per_period"),
+    (dict(direction=[1.0, 0.0]), "direction"),
+    (dict(direction=[0.0]), "direction"),
+])
+def test_bad_inputs_are_refused(kwargs, match):
+    a, b, c, d = oscillator()
+    args = dict(omega=WN, duration=10.0) | kwargs
+    with pytest.raises((ValueError, TypeError), match=match):
+        timedomain.sine_response(a, b, c, d, **args)
+
+
+def test_bad_shapes_group_and_fit_window_are_refused():
+    a, b, c, d = oscillator()
+    with pytest.raises(ValueError, match="shapes"):
+        timedomain.sine_response(a, b.T, c, d, WN, 10.0)
+    with pytest.raises(ValueError, match="finite"):
+        timedomain.sine_response(a * np.nan, b, c, d, WN, 10.0)
+    res = timedomain.sine_response(a, b, c, d, WN, 10.0)
+    with pytest.raises(ValueError, match="periods"):
+        res.amplitude(periods=20)  # 10 s hold 4.8 periods
+    with pytest.raises(ValueError, match="group"):
+        timedomain.loop_sine_response(None, np.zeros((4, 8)), "los", WN, 10.0)
