@@ -188,3 +188,42 @@ def test_bad_inputs(model, inertia):
         closedloop.generalized_plant(sub.a, sub.b, sub.c, sub.d, inertia, ST.replace(effort="transmitted"), pma_stiffness=-5.0)
     with pytest.raises(ValueError, match="no rigid part"):
         closedloop.generalized_plant(sub.a, 0 * sub.b, sub.c, 0 * sub.d, inertia, ST)  # was a nan in dropped, no error
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def test_transmitted_effort_against_frequency_domain_composition(model_low, inertia):
+    """On G_r_low (no stroke feedthrough), the transmitted effort ``(u - k x - d x') / u_max`` with the stroke x of the
+    closed loop, composed per frequency from the acceleration model as in :func:`composed`, equals the realisation's
+    (the spring and the damper terms both enter with a minus sign; x' = s x)."""
+    st = ST.replace(effort="transmitted")
+    pma = spacecraft.load_parameters()["pma"]
+    k_pma, d_pma = pma["stiffness"], pma["damping"]  # 10 N/m, 1.4 N s/m
+    sc = Scenario(0.3, -0.6, 0.5, 0.9)
+    plant = plant_at(model_low, sc, inertia, st)  # the pma entry of the parameters file
+    gain = np.random.default_rng(6).normal(scale=30.0, size=(4, 8))
+    w = W[W >= 0.3]
+    t = ports.frequency_response(*plant.closed_loop(gain), w)[plant.slices()["effort"], plant.slices()["p"]]
+    g = ports.frequency_response(*model_low.substitute(sc.normalized(), normalized=True).evaluate(), w)
+    ins, outs = spacecraft.INPUTS, spacecraft.OUTPUTS
+    ip = [ins.index(n) for n in ("p_SP1", "p_SP2")]
+    iw = [ins.index(f"W_P1_{r}") for r in ("Rx", "Ry", "Rz")]
+    iu = [ins.index(f"u_PMA{i}") for i in range(1, 5)]
+    ox = [outs.index(f"x_PMA{i}") for i in range(1, 5)]
+    op = [outs.index(f"a_P1_{r}") for r in ("Rx", "Ry", "Rz")]
+    oy = [outs.index(n) for n in closedloop.MEASUREMENTS]
+    kp, kv = closedloop.acs_gains(inertia, st)
+    f_pma = siso(closedloop.pma_filter(st), w)
+    ref = []
+    for k, wk in enumerate(w):
+        gk, s = g[:, :, k], 1j * wk
+        kacs = np.diag((kp + kv * s) / s**2)
+        gw = -kacs @ np.linalg.inv(np.eye(3) + gk[np.ix_(op, iw)] @ kacs)
+        gp = gk[:, ip] + gk[:, iw] @ gw @ gk[np.ix_(op, ip)]
+        gu = gk[:, iu] + gk[:, iw] @ gw @ gk[np.ix_(op, iu)]
+        fk = f_pma[k] * gain
+        u = np.linalg.solve(np.eye(4) - fk @ gu[oy], fk @ gp[oy])
+        x = gp[ox] + gu[ox] @ u
+        ref.append((u - (k_pma + d_pma * s) * x) * st.p_max / st.u_max)
+    ref = np.moveaxis(np.array(ref), 0, 2)
+    err = np.max(np.abs(t - ref), axis=(0, 1)) / np.max(np.abs(ref), axis=(0, 1))
+    assert err.max() < 1e-6, err

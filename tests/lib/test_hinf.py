@@ -215,3 +215,60 @@ def test_timing_n200_n800():
         print(f"\nn = {2 * n_modes}: hinf_norm {t1 - t0:.2f} s ({res.iterations} Hamiltonian eig), "
               f"grid_peak {t2 - t1:.2f} s")
         assert res.certified and abs(est.norm / res.norm - 1) <= 1e-6
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def test_grid_peak_refines_a_local_maximum_other_than_the_grid_maximum():
+    """Two decoupled channels: 1/(s^2 + 2e-3 s + 1) (peak p1 = 1/(2 zeta1 sqrt(1 - zeta1^2)) near 1 rad/s, sampled
+    within 5e-7 by the grid) and a well-damped mode at 20 rad/s (zeta 0.1) scaled to a peak 1.001 p1 that the grid
+    samples 1.3e-3 low: the grid's largest point is on the first mode, the norm is the second's (closed form)."""
+    from scipy.linalg import block_diag
+
+    z1, z2, w2 = 1e-3, 0.1, 20.0
+    p1, p2 = 1 / (2 * z1 * np.sqrt(1 - z1**2)), 1 / (2 * z2 * np.sqrt(1 - z2**2))
+    a1, b1, c1, _ = one_mode(z1, 1.0)
+    a2, b2, c2, _ = one_mode(z2, w2)
+    sys_ = block_diag(a1, a2), block_diag(b1, b2), block_diag(c1, c2 * w2**2 * 1.001 * p1 / p2), np.zeros((2, 2))
+    expected = 1.001 * p1
+    grid = peak_grid(sys_[0], 1e-3, 1e4)
+    assert grid[np.argmax(sigma_max(*sys_, grid))] < 2.0  # the premise: the grid maximum is the wrong mode
+    est, exact = grid_peak(*sys_), hinf_norm(*sys_)
+    assert exact.certified and abs(exact.norm / expected - 1) < 1e-9
+    assert abs(est.norm / expected - 1) < 1e-9 and abs(est.omega / (w2 * np.sqrt(1 - 2 * z2**2)) - 1) < 1e-6
+
+
+def test_peak_grid_holds_the_damped_frequency_and_the_points_around_each_resonance():
+    """Documented content of peak_grid: for each pole with damping below max_damping, Im(lambda) and
+    |lambda| (1 + k zeta) for k evenly spaced in [-2, 2]; a well-damped pole adds nothing."""
+    from scipy.linalg import block_diag
+
+    a = block_diag(one_mode(0.05, 3.0)[0], one_mode(0.7, 50.0)[0])
+    lam = np.linalg.eigvals(a)
+    grid = peak_grid(a, 0.1, 1000.0, n_log=10, n_per_mode=5)
+    light = lam[(lam.imag > 0) & (np.abs(lam) < 10)]
+    assert light.size == 1
+    mag, zeta = np.abs(light[0]), -light[0].real / np.abs(light[0])
+    expected = np.r_[light[0].imag, mag * (1 + np.linspace(-2, 2, 5) * zeta)]
+    assert np.all(np.isin(expected, grid))
+    assert grid.size == np.unique(np.r_[np.geomspace(0.1, 1000.0, 10), expected]).size  # nothing from the 50 rad/s pole
+
+
+def test_certified_norm_within_rtol_of_a_peak_the_start_bound_does_not_refine():
+    """Four decoupled channels: three lightly damped modes (zeta 1e-3, peak P each) rank first at their pole
+    frequencies and give the start bound P; a well-damped mode (zeta 0.3 at 30 rad/s, value at |lambda| 5 % below its
+    peak) peaks 5e-7 above P. The certificate ``norm <= ||G|| <= (1 + rtol) norm`` (rtol 1e-7) needs the Hamiltonian
+    test at gamma = (1 + rtol) lb to find it (closed-form peaks 1 / (2 zeta sqrt(1 - zeta^2)))."""
+    from scipy.linalg import block_diag
+
+    def peak(z):
+        return 1 / (2 * z * np.sqrt(1 - z**2))
+
+    p_light, (z_h, w_h) = peak(1e-3), (0.3, 30.0)
+    true = p_light * (1 + 5e-7)
+    mats = [one_mode(1e-3, w) for w in (1.0, 3.0, 9.0)] + [one_mode(z_h, w_h)]
+    gains = [w**2 for w in (1.0, 3.0, 9.0)] + [w_h**2 * true / peak(z_h)]
+    sys_ = (block_diag(*[m[0] for m in mats]), block_diag(*[m[1] for m in mats]),
+            block_diag(*[g * m[2] for g, m in zip(gains, mats)]), np.zeros((4, 4)))
+    res = hinf_norm(*sys_)
+    assert res.certified and res.norm <= true * (1 + 1e-12) and true <= res.norm * (1 + 1e-7)
+    assert abs(res.omega / (w_h * np.sqrt(1 - 2 * z_h**2)) - 1) < 1e-4

@@ -139,3 +139,91 @@ def test_bad_matrices_and_ill_posed_substitution_name_the_cause():
     bad = LFT(np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((2, 0)), [[2.0, 1.0], [1.0, 0.0]], ["q"], {"q": Q})
     with pytest.raises(ValueError, match="ill-posed at"):
         bad.substitute({"q": 0.5}, normalized=True)  # 1 - 2 * 0.5 = 0
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def _static(m, blocks, params):
+    nd_in = m.shape[1]
+    return LFT(np.zeros((0, 0)), np.zeros((0, nd_in)), np.zeros((m.shape[0], 0)), m, blocks, params)
+
+
+def test_star_product_with_external_channels_on_both_sides_matches_the_loop_equations():
+    """Redheffer star product of two uncertain matrices, each with external inputs and outputs besides the inner ones,
+    against solving the interconnection equations directly at sampled parameter values (both partitions of ``other``:
+    its inner outputs first, its external outputs after; its inner inputs first, its external inputs after)."""
+    rng = np.random.default_rng(7)
+    ny1, nu1, ny2, nu2, a1, b1 = 4, 3, 3, 4, 2, 1  # self: 2 inner outputs, 1 inner input; other: 1 inner output, 2 inner inputs
+    p0, p1 = 0.3 * rng.normal(size=(ny1, nu1)), 0.3 * rng.normal(size=(ny1, nu1))
+    q0, q1 = 0.3 * rng.normal(size=(ny2, nu2)), 0.3 * rng.normal(size=(ny2, nu2))
+    q, m = LFT.param(Q), LFT.param(P)
+    p_lft = LFT.constant(p0) + p1 * q
+    q_lft = LFT.constant(q0) + q1 * (m * (1.0 / 800.0) - 1.0)
+    st = p_lft.star(q_lft, a1, b1)
+    assert st.shape == ((ny1 - a1) + (ny2 - b1), (nu1 - b1) + (nu2 - a1))
+    for qv, mv in ((-1.0, 640.0), (0.4, 900.0), (1.0, 960.0)):
+        pm, qm = p0 + qv * p1, q0 + q1 * (mv / 800.0 - 1.0)
+        # unknowns y1 (ny1), y2 (ny2): y1 = P [u_ext; y2[:b1]], y2 = Q [y1[-a1:]; v_ext]
+        s1 = np.zeros((nu1, ny2))
+        s1[nu1 - b1:, :b1] = np.eye(b1)
+        s2 = np.zeros((nu2, ny1))
+        s2[:a1, ny1 - a1:] = np.eye(a1)
+        e1 = np.zeros((nu1, nu1 - b1))
+        e1[:nu1 - b1] = np.eye(nu1 - b1)
+        e2 = np.zeros((nu2, nu2 - a1))
+        e2[a1:] = np.eye(nu2 - a1)
+        lhs = np.block([[np.eye(ny1), -pm @ s1], [-qm @ s2, np.eye(ny2)]])
+        rhs = np.block([[pm @ e1, np.zeros((ny1, nu2 - a1))], [np.zeros((ny2, nu1 - b1)), qm @ e2]])
+        y = np.linalg.solve(lhs, rhs)
+        direct = np.vstack([y[:ny1 - a1], y[ny1 + b1:]])
+        np.testing.assert_allclose(st.evaluate({"q": qv, "m": mv})[3], direct, rtol=1e-10, atol=1e-12)
+
+
+def test_negation_of_an_uncertain_system_whose_delta_channels_read_states():
+    """``-G`` for a dynamic LFT whose Delta channels are driven by its states (C has z rows): ``-G(q)`` at each q."""
+    s1 = stable_ss(4, 2, 2, rng=np.random.default_rng(8))
+    q = LFT.param(Q)
+    g = (np.eye(2) * (1.0 + 0.5 * q)) @ LFT.from_ss(*s1)  # the parameter acts on the outputs of the states
+    assert np.any(g.c[:g.n_delta])
+    g2 = LFT.from_ss(*stable_ss(3, 2, 2, rng=np.random.default_rng(9)))
+    for qv in (-1.0, 0.6):
+        ref = resp(g.evaluate({"q": qv}))
+        np.testing.assert_allclose(resp((-g).evaluate({"q": qv})), -ref, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(resp((g2 - g).evaluate({"q": qv})), resp(g2.evaluate()) - ref, rtol=1e-9, atol=1e-12)
+
+
+def test_grouped_and_transpose_keep_the_value_with_interleaved_parameters():
+    """Delta channels of two parameters interleaved (q, m, q, m, q): grouping them by parameter (a permutation of the
+    rows and columns of M) and transposing keep the value at every sampled point."""
+    rng = np.random.default_rng(10)
+    m = 0.3 * rng.normal(size=(5 + 2, 5 + 3))
+    lf = _static(m, ["q", "m", "q", "m", "q"], {"q": Q, "m": P})
+    grouped = lf.grouped()
+    assert grouped.blocks == ["m", "m", "q", "q", "q"] and grouped.delta_structure() == [("m", 2), ("q", 3)]
+    for vals in lf.sample(6, rng=1):
+        ref = lf.evaluate(vals, normalized=True)[3]
+        dv = np.array([vals[b] for b in lf.blocks])
+        dd = np.diag(dv)
+        direct = m[5:, 5:] + m[5:, :5] @ dd @ np.linalg.solve(np.eye(5) - m[:5, :5] @ dd, m[:5, 5:])
+        np.testing.assert_allclose(ref, direct, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(grouped.evaluate(vals, normalized=True)[3], direct, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(lf.T.evaluate(vals, normalized=True)[3], direct.T, rtol=1e-12, atol=1e-14)
+    sq = _static(0.3 * rng.normal(size=(5 + 2, 5 + 2)), ["q", "m", "q", "m", "q"], {"q": Q, "m": P})  # square io part
+    for vals in sq.sample(4, rng=2):
+        np.testing.assert_allclose(sq.T.evaluate(vals, normalized=True)[3], sq.evaluate(vals, normalized=True)[3].T,
+                                   rtol=1e-12, atol=1e-14)
+
+
+def test_scalar_times_an_ill_conditioned_matrix_keeps_its_small_singular_directions():
+    """``m * A`` with A of condition number 1e6 (rank 3 numerically, not 1): the product is ``m A`` exactly."""
+    u, _ = np.linalg.qr(np.random.default_rng(11).normal(size=(3, 3)))
+    v, _ = np.linalg.qr(np.random.default_rng(12).normal(size=(3, 3)))
+    amat = u @ np.diag([1.0, 1e-3, 1e-6]) @ v.T
+    prod = LFT.param(P) * amat
+    assert prod.occurrences() == {"m": 3}
+    for mv in (640.0, 900.0):
+        np.testing.assert_allclose(prod.evaluate({"m": mv})[3], mv * amat, rtol=0, atol=1e-12 * mv)
+
+
+def test_percent_parameter_of_a_negative_nominal():
+    p = Parameter.percent("x", -5.0, 10.0)
+    assert (p.low, p.high) == pytest.approx((-5.5, -4.5)) and p.nominal == -5.0

@@ -376,3 +376,26 @@ def test_a_peak_outside_the_default_range_is_found(omega):
 def test_symmetrise_with_only_real_roots():
     lam = np.array([-1.0 + 1e-14j, -2.0, -3.0 - 1e-13j])
     np.testing.assert_array_equal(_symmetrise(lam), [-1.0, -2.0, -3.0])  # was a ValueError (argmin of an empty array)
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def test_a_weakly_but_really_coupled_mode_is_moved():
+    """Two modes seen by the measurements at 1e-10 of the others (far above the 1e-18 of a mode no gain moves): the
+    gain shifts them by about 1e-11 relative, which the fast poles must keep (dense eig agrees to 4e-15 here)."""
+    rng = np.random.default_rng(31)
+    w = np.sort(rng.uniform(1.0, 300.0, 12))
+    n = 2 * w.size
+    a = np.zeros((n, n))
+    for i, wi in enumerate(w):
+        a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[0.0, 1.0], [-wi ** 2, -2e-3 * wi]]
+    b, c = rng.normal(size=(n, 6)), rng.normal(size=(14, n))
+    c[6:, :4] *= 1e-10
+    plant = GeneralizedPlant(a, b, c, np.zeros((14, 6)), n_delta=0, rigid_rank=0)
+    ml = ModalLoop.of(plant)
+    assert ml.coupled.all()
+    k = 0.05 * rng.normal(size=(4, 8))
+    lam, dense = ml.poles(k), plant.closed_loop_poles(k)
+    mu = np.linalg.eigvals(a)
+    weak = mu[np.argmin(np.abs(mu - 1j * w[0]))]
+    assert np.min(np.abs(dense - weak)) > 1e-12 * abs(weak)  # the premise: the gain moves the weak mode
+    assert ml.fallbacks == 0 and _matched_error(lam, dense) < 1e-13

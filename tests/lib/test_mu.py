@@ -311,3 +311,58 @@ def test_bad_solver_lower_bound_options_and_an_ill_posed_centre():
         mu.wc_gain_lower(m, (1,), [1.0], n_starts=0)  # was an IndexError
     bb = mu.wc_gain_upper_bb(np.array([[2.0, 1.0], [1.0, 0.0]], complex), (1,), max_solves=5)  # I - 2 delta = 0 at 0.5
     assert bb.beta == np.inf  # was a LinAlgError from recentre
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def test_repeated_block_bound_invariant_to_a_unitary_change_of_basis_within_the_block():
+    """A repeated real block delta I_k commutes with any unitary U (k x k): F_u(diag(U, I) M diag(U^H, I), Delta) =
+    F_u(M, Delta) for every Delta, and the D-G bound with full Hermitian (complex) D and G blocks is invariant too
+    (D -> U D U^H, G -> U G U^H). Real symmetric D and G blocks only would make it depend on the complex basis (unstructured
+    complex data, where the bound is not tight: 6-17 % apart)."""
+    for seed, sizes in ((61, (2, 1)), (62, (3,))):
+        rng = np.random.default_rng(seed)
+        n, k = sum(sizes), sizes[0]
+        m = rng.normal(size=(n + 2, n + 2)) + 1j * rng.normal(size=(n + 2, n + 2))
+        m[:n, :n] *= 0.9 / np.linalg.norm(m[:n, :n], 2)
+        u, _ = np.linalg.qr(rng.normal(size=(k, k)) + 1j * rng.normal(size=(k, k)))
+        left, right = np.eye(n + 2, dtype=complex), np.eye(n + 2, dtype=complex)
+        left[:k, :k], right[:k, :k] = u, u.conj().T
+        mu_ = left @ m @ right
+        dl = rng.uniform(-1, 1, (10, len(sizes)))
+        np.testing.assert_allclose(mu.lft_upper(mu_, sizes, dl), mu.lft_upper(m, sizes, dl), rtol=1e-10, atol=1e-12)
+        b0, b1 = mu.wc_gain_upper(m, sizes), mu.wc_gain_upper(mu_, sizes)
+        assert b0.status.startswith("optimal") and b1.status.startswith("optimal")
+        assert b1.beta == pytest.approx(b0.beta, rel=1e-5)
+        assert brute(m, sizes, 41) <= b0.beta * (1 + 1e-6)
+
+
+def test_returned_scalings_certify_the_bound_on_badly_scaled_data():
+    """The D and G returned are in the coordinates of the given M (entries spanning 1e-6 .. 1e4, performance channels
+    scaled by 1e3 and 1e-5): the LMI holds with them and t = beta^2, evaluated directly on that M."""
+    rng = np.random.default_rng(31)
+    sizes = (3, 1, 2)
+    m = freq_resp(lft_ss(rng, sizes, 2, 2), 1.3)
+    t, ce, cp = np.logspace(-6, 4, 6), 1e3, 1e-5
+    ms = np.r_[t, ce, ce][:, None] * m * np.r_[1 / t, cp, cp][None, :]
+    ub = mu.wc_gain_upper(ms, sizes)
+    assert ub.status.startswith("optimal") and np.isfinite(ub.beta)
+    assert lmi_residual(ms, sizes, ub) <= 1e-7
+
+
+@pytest.mark.parametrize("seed", [1, 5])
+def test_branch_and_bound_converged_means_every_leaf_below_the_goal(seed):
+    """``status == "converged"`` claims the bound returned (the largest leaf bound) is within ``(1 + rtol)`` of the best
+    gain achieved at a leaf centre, or below ``target``: the leaf tested and split is the one with the largest bound."""
+    rng = np.random.default_rng(seed)
+    sizes, n = (1, 2), 3
+    m = rng.normal(size=(n + 1, n + 1)) + 1j * rng.normal(size=(n + 1, n + 1))
+    m[:n, :n] *= 0.9 / np.linalg.norm(m[:n, :n], 2)
+    bf = brute(m, sizes, 41)
+    for kwargs in (dict(rtol=0.01), dict(rtol=0.05), dict(target=1.005 * bf)):
+        bb = mu.wc_gain_upper_bb(m, sizes, max_solves=200, **kwargs)
+        goal = kwargs.get("target", (1 + kwargs.get("rtol", 0.0)) * bb.lower)
+        assert bf * (1 - 1e-9) <= bb.beta and bb.lower <= bf * (1 + 1e-9)
+        if bb.status == "converged":
+            assert bb.beta <= goal * (1 + 1e-12), (kwargs, bb)
+        else:
+            assert bb.status in ("min_radius", "max_solves")

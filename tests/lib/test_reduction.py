@@ -90,3 +90,56 @@ def test_slow_pole_check_refuses_nan_and_infinite_limits():
             reduction.modal_reduction(a, b, c, d, max_contribution=bad)
     with pytest.raises(ValueError, match="omega_min"):
         reduction.split_slow(a, b, c, d, omega_min=np.inf)
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def _mixed_modal(seed, slow, fast):
+    """Dense realisation (random similarity) of decoupled first- and second-order modes with known poles."""
+    rng = np.random.default_rng(seed)
+    blocks = [np.array([[-p]]) for p in slow]
+    for w, z in fast:
+        blocks.append(np.array([[0.0, 1.0], [-w**2, -2 * z * w]]))
+    a0 = linalg.block_diag(*blocks)
+    n = a0.shape[0]
+    t = rng.normal(size=(n, n)) + 3 * np.eye(n)
+    a = t @ a0 @ np.linalg.inv(t)
+    return a, rng.normal(size=(n, 2)), rng.normal(size=(3, n)), rng.normal(size=(3, 2))
+
+
+def test_split_slow_is_an_exact_decomposition_of_a_dense_realisation():
+    """G = G_fast + C_s (sI - A_s)^-1 B_s at every frequency, the slow poles are the ones below omega_min, and
+    residualising the fast part above a cut keeps its DC gain and the kept poles."""
+    slow, fast = [1e-4, 3e-3], [(0.5, 0.02), (3.0, 0.01), (40.0, 0.05)]
+    a, b, c, d = _mixed_modal(5, slow, fast)
+    split = reduction.split_slow(a, b, c, d, omega_min=0.01)
+    assert split.n_slow == 2
+    np.testing.assert_allclose(np.sort(np.abs(split.slow_poles)), slow, rtol=1e-8)
+    w = np.r_[0.0, np.geomspace(1e-4, 1e3, 25)]
+    g = ports.frequency_response(a, b, c, d, w)
+    g_fast = ports.frequency_response(*split.fast, w)
+    g_slow = ports.frequency_response(*split.slow, np.zeros_like(d), w)
+    assert np.abs(g_fast + g_slow - g).max() < 1e-9 * np.abs(g).max()
+    fa, fb, fc, fd = split.fast
+    (ra, rb, rc, rd), n_high = reduction.residualize_above(fa, fb, fc, fd, 10.0)
+    assert n_high == 2 and ra.shape[0] == 4 and np.abs(np.linalg.eigvals(ra)).max() < 10.0
+    dc_fast = fd - fc @ np.linalg.solve(fa, fb)
+    np.testing.assert_allclose(rd - rc @ np.linalg.solve(ra, rb), dc_fast, rtol=1e-9, atol=1e-12 * np.abs(dc_fast).max())
+    # the modes kept by the cut are those of the fast part: the same residues there (low frequencies, away from 40 rad/s
+    # the residualised mode's dynamic part is O((w / 40)^2) of its static part)
+    g_res = ports.frequency_response(ra, rb, rc, rd, np.array([0.05]))
+    g_ref = ports.frequency_response(fa, fb, fc, fd, np.array([0.05]))
+    assert np.abs(g_res - g_ref).max() < 1e-4 * np.abs(g_ref).max()
+
+
+def test_slow_contribution_is_relative_to_the_whole_response_from_omega_min():
+    """G = G_slow + G_fast with G_slow = k a / (s + a) (a = 1e-3 rad/s) and G_fast = 1 / (s + 1): the contribution is
+    max over omega_min * [1, 1e4] of |G_slow| / |G_slow + G_fast|, largest at omega_min itself."""
+    k, p = 0.3, 1e-3
+    a = np.diag([-p, -1.0])
+    b, c, d = np.array([[k * p], [1.0]]), np.array([[1.0, 1.0]]), np.zeros((1, 1))
+    split = reduction.split_slow(a, b, c, d, omega_min=0.01)
+    s = 1j * 0.01 * np.logspace(0, 4, 9)
+    g_slow, g_fast = k * p / (s + p), 1.0 / (s + 1.0)
+    expected = np.max(np.abs(g_slow) / np.abs(g_slow + g_fast))
+    assert split.n_slow == 1 and split.contribution == pytest.approx(expected, rel=1e-9)
+    assert split.contribution == pytest.approx(abs(g_slow[0]) / abs(g_slow[0] + g_fast[0]), rel=1e-9)

@@ -110,3 +110,27 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
         part.unlink()
     with pytest.raises(ValueError, match="partial_key"):  # a partial file needs what identifies the model
         robustness.sweep(None, thetas, -np.ones((4, 8)), np.eye(3), ST, partial=part)
+
+
+# ------------------------------------------------------------------ mutation-testing additions (review of 2026-12-03)
+def test_upper_at_one_frequency_keeps_the_tighter_of_whole_box_and_branch_and_bound():
+    """Unstructured data on which the whole-box D-G bound is 6 % above the brute-force maximum (41 x 41 grid): the
+    bound at the frequency is the branch-and-bound one, within 1e-3 of the maximum and never below it."""
+    from lib import mu
+
+    rng = np.random.default_rng(1)
+    sizes, n = (1, 2), 3
+    m = rng.normal(size=(n + 1, n + 1)) + 1j * rng.normal(size=(n + 1, n + 1))
+    m[:n, :n] *= 0.9 / np.linalg.norm(m[:n, :n], 2)
+    grid = np.array(np.meshgrid(np.linspace(-1, 1, 41), np.linspace(-1, 1, 41), indexing="ij")).reshape(2, -1).T
+    bf = np.linalg.norm(mu.lft_upper(m, sizes, grid), 2, axis=(1, 2)).max()
+    whole = mu.wc_gain_upper(m, sizes).beta
+    assert whole > 1.05 * bf
+    beta, status = robustness._upper(m, sizes, 1.001 * bf, 200)
+    assert bf * (1 - 1e-9) <= beta <= 1.001 * bf and status.startswith("branch and bound")
+
+
+def test_gap_of_a_violated_bracket_is_negative():
+    """``gap = upper / lower - 1``: an upper bound below the lower one (a bug to be seen) shows as a negative gap."""
+    b = robustness.AngleBounds(0.0, 1.0, 1.1, 1.0, 1.0, {}, 1)
+    assert b.gap == pytest.approx(1.0 / 1.1 - 1.0)
