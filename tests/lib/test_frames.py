@@ -41,3 +41,15 @@ def test_beam_frame_is_a_rotation_with_x_along_the_beam():
 def test_bad_input_raises_clear_errors(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+# ---------------------------------------------------------------- mutation-testing additions (review of 2026-12-03)
+@pytest.mark.parametrize("rot, axis", [(frames.rot_x, 0), (frames.rot_y, 1), (frames.rot_z, 2)])
+def test_elementary_rotations_follow_rodrigues_right_hand_rule(rot, axis):
+    """R(angle) v = v cos + (k x v) sin + k (k . v)(1 - cos) for the unit axis k (right-hand rule, Rodrigues)."""
+    k = np.eye(3)[axis]
+    rng = np.random.default_rng(3)
+    for angle in (0.3, np.pi / 2, -2.1):
+        for v in rng.normal(size=(3, 3)):
+            expected = v * np.cos(angle) + np.cross(k, v) * np.sin(angle) + k * (k @ v) * (1 - np.cos(angle))
+            np.testing.assert_allclose(rot(angle) @ v, expected, atol=1e-14)

@@ -126,3 +126,31 @@ def test_bad_geometry_raises():
         assembly.constrained_frequencies({"A": [0, 0, 0]}, [("A", "B")], SEC0, ["A"])
     with pytest.raises(ValueError, match="n_elements"):
         frame_fe.build_frame({"A": [0, 0, 0], "B": [1, 0, 0]}, [("A", "B")], SEC0, n_elements=0)
+
+
+# ---------------------------------------------------------------- mutation-testing additions (review of 2026-12-03)
+def test_planar_l_nodes_put_the_angle_alpha_at_b():
+    """The angle between BA and BC is alpha and |BC| = l_cb; alpha = pi/4 with l_cb = sqrt(2) l_ab puts C above A."""
+    for alpha in (np.pi / 3, np.pi / 2, 2 * np.pi / 3):
+        (_, a), (_, b), (_, c) = mechanisms.planar_l_nodes(alpha, 0.8, 1.3)
+        ba, bc = a - b, c - b
+        assert np.isclose(np.linalg.norm(ba), 0.8) and np.isclose(np.linalg.norm(bc), 1.3)
+        assert np.isclose(np.arccos(ba @ bc / (np.linalg.norm(ba) * np.linalg.norm(bc))), alpha, rtol=1e-12)
+    (_, a), _, (_, c) = mechanisms.planar_l_nodes(np.pi / 4, 1.0, np.sqrt(2.0))
+    np.testing.assert_allclose(c, [0.0, 1.0, 0.0], atol=1e-15)
+
+
+@pytest.mark.parametrize("mass", ["consistent", "lumped"])
+def test_frame_fe_rigid_mass_of_a_beam_is_that_of_the_homogeneous_rod(mass):
+    """Rigid mass of one member (6 elements) at its clamped end: translations m I (m = rho S l), first moment m l / 2
+    (G at mid-length) and torsional inertia rho Ip l for both mass formulations; with the consistent mass (exact for
+    rigid motions) also the bending inertia m l^2 / 3 = m l^2 / 12 + m (l / 2)^2 (parallel-axis theorem)."""
+    length = 1.5
+    fem = frame_fe.build_frame({"A": [0.0, 0.0, 0.0], "B": [length, 0.0, 0.0]}, [("A", "B")], SEC0, 6, mass)
+    rigid = fem.modes(["A"], n_modes=2).rigid_mass
+    m = SEC0.density * SEC0.area * length
+    np.testing.assert_allclose(rigid[:3, :3], m * np.eye(3), rtol=1e-12)
+    np.testing.assert_allclose(rigid[:3, 3:], m * frames.skew([length / 2, 0.0, 0.0]).T, atol=1e-12 * m)
+    assert np.isclose(rigid[3, 3], SEC0.density * SEC0.polar * length, rtol=1e-12)
+    if mass == "consistent":
+        np.testing.assert_allclose(np.diag(rigid)[4:], m * length**2 / 3, rtol=1e-12)

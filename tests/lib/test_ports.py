@@ -108,3 +108,21 @@ def test_statespace_conversion_has_named_signals():
     # entry (entries near zero differ by 1e-10 of themselves, round-off of an independent evaluation)
     ref = model.freqresp([10.0])[:, :, 0]
     np.testing.assert_allclose(g, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+
+
+# ---------------------------------------------------------------- mutation-testing additions (review of 2026-12-03)
+def test_transport_free_port_along_a_rigid_arm_gives_the_cantilever_with_arm_compliance():
+    """Tip C of a cantilever (length l, along x) moved by e to Q = (l + e, 0, 0) on a rigid arm: a force F_y at Q
+    deflects Q by F (l^3/3 + l^2 e + l e^2) / (E Iz) (tip force F plus tip moment F e, then the arm's rotation);
+    a moment M_z at Q rotates it by M l / (E Iz) and deflects it by M (l^2/2 + l e) / (E Iz)."""
+    length, e = 1.0, 0.4
+    model = titop.clamped_free(length, SEC).transport("C", [length + e, 0.0, 0.0])
+    np.testing.assert_allclose(model.port("C").position, [length + e, 0.0, 0.0])
+    comp = model.static_compliance("C")
+    ei = SEC.young * SEC.iz
+    np.testing.assert_allclose(comp[1, 1], (length**3 / 3 + length**2 * e + length * e**2) / ei, rtol=1e-9)
+    np.testing.assert_allclose(comp[5, 5], length / ei, rtol=1e-9)
+    np.testing.assert_allclose([comp[1, 5], comp[5, 1]], (length**2 / 2 + length * e) / ei, rtol=1e-9)
+    ei_y = SEC.young * SEC.iy  # w-plane: ry = -w', a force F_z at Q deflects Q by the same formula, ry and w of opposite signs
+    np.testing.assert_allclose(comp[2, 2], (length**3 / 3 + length**2 * e + length * e**2) / ei_y, rtol=1e-9)
+    np.testing.assert_allclose(comp[2, 4], -(length**2 / 2 + length * e) / ei_y, rtol=1e-9)

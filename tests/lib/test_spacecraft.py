@@ -188,3 +188,39 @@ def test_a_pma_or_antenna_off_the_truss_ports_is_refused():
         spacecraft.open_loop(0.03, params=p)
     ol = spacecraft.open_loop(0.02, theta=1.0, uncertain=True)
     assert ol.parameters["theta"] is None and ol.parameters["hub_mass"] is None and ol.parameters["h"] == 0.02
+
+
+# ---------------------------------------------------------------- mutation-testing additions (review of 2026-12-03)
+def test_pma_force_to_wrench_is_the_reaction_of_its_spring_mass_damper():
+    """Base held (a_P = 0): the proof mass obeys m x'' = u - k x - d x', so X / U = 1 / (m s^2 + d s + k) and the wrench
+    on the parent is the reaction -m x'' v applied at G: W_P / U = -[v; r_PG x v] m s^2 / (m s^2 + d s + k),
+    in the parent frame (rotation R) as R6 times that."""
+    pm = PARAMS["pma"]
+    m, k, d = pm["proof_mass"], pm["stiffness"], pm["damping"]
+    v = np.array([1.0, 0.0, 0.0])  # off the CoG offset (0, 0.05, 0): a non-zero moment at P
+    rot = frames.rot_z(0.4) @ frames.rot_x(-0.7)
+    model = bodies.pma("N", [0.2, -0.1, 0.3], rot, pm["casing_mass"], pm["casing_inertia"], pm["r_og"], m, k, d, axis=v)
+    w = np.array([0.5, 3.0, np.sqrt(k / m), 30.0])
+    g = model.freqresp(w)
+    u, node = model.channels("pma")[0], model.channels("N")
+    s = 1j * w
+    x_u = 1.0 / (m * s**2 + d * s + k)
+    r_pg = np.asarray(pm["r_og"]) - np.asarray(pm["r_op"])
+    dirs = np.r_[rot @ v, rot @ np.cross(r_pg, v)]
+    np.testing.assert_allclose(g[u, u], x_u, rtol=1e-10)
+    np.testing.assert_allclose(g[node, u], -np.outer(dirs, m * s**2 * x_u), rtol=1e-10, atol=1e-12)
+
+
+def test_sadm_joint_of_a_panel_with_uncoupled_modes_is_a_rigid_body_on_a_spring_damper():
+    """Zero participation factors leave a rigid panel on the joint: J theta'' = -(k theta + f theta') + p with J the
+    inertia about the joint axis at the joint, from the parallel-axis theorem J = e^T (J_G + m (|r|^2 I - r r^T)) e."""
+    sp, ch = PARAMS["solar_panel"], PARAMS["choices"]
+    m, r, j_g = sp["mass"], np.asarray(sp["r_og"]), np.asarray(sp["inertia_g"])
+    e = np.array([0.6, 0.0, 0.8])
+    k, f = ch["sadm_stiffness"], ch["sadm_friction"]
+    panel = bodies.solar_panel("P6", [0.0, 0.0, 0.0], np.eye(3), m, r, j_g, sp["omega"], sp["damping"], np.zeros((3, 6)),
+                               e, k, f, label="SP1")
+    j_e = e @ (j_g + m * (r @ r * np.eye(3) - np.outer(r, r))) @ e
+    w = np.array([0.5, np.sqrt(k / j_e), 20.0])
+    s = panel.channels("SP1")[0]
+    np.testing.assert_allclose(panel.freqresp(w)[s, s], 1.0 / (-j_e * w**2 + 1j * f * w + k), rtol=1e-9)

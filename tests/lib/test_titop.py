@@ -230,3 +230,28 @@ def test_degenerate_modes_are_flagged_and_the_fe_frame_is_one_per_member():
         frame_fe.build_frame({"A": [0, 0, 0], "B": [1, 0, 0], "Z": [5, 5, 5]}, [("A", "B")], sec, 2)
     with pytest.raises(ValueError, match="at least one node"):  # OpenSees returned 155 rad/s for a free-free beam
         opensees_fe.frame_frequencies({"A": [0, 0, 0], "B": [1, 0, 0]}, [("A", "B")], sec, [], 2)
+
+
+# ---------------------------------------------------------------- mutation-testing additions (review of 2026-12-03)
+def test_every_pole_has_the_section_damping_ratio_and_the_default_is_the_paper_value():
+    """Paper table tab:verif_cube_params: S = 9e-4 m^2, Iy = Iz = 6.75e-8 m^4, rho = 2700, E = 70 GPa, nu = 0.35,
+    xi = 0.001; the modal damping 2 xi omega of each clamped-free mode gives every pole the damping ratio xi."""
+    sec = titop.Section.square(0.03)
+    assert (sec.area, sec.iy, sec.iz) == pytest.approx((9e-4, 6.75e-8, 6.75e-8), rel=1e-12)
+    direct = titop.Section(9e-4, 6.75e-8, 6.75e-8, 1.35e-7)  # the dataclass defaults, not only those of Section.square
+    for x in (sec, direct):
+        assert (x.young, x.poisson, x.density, x.damping) == (70e9, 0.35, 2700.0, 0.001)
+    for s in (direct, titop.Section.square(0.02, damping=0.02)):
+        p = titop.clamped_free(0.8, s, 2).poles()
+        np.testing.assert_allclose(-p.real / np.abs(p), s.damping, rtol=1e-8)
+
+
+def test_clamped_free_bending_roots_beyond_the_tabulated_four_solve_the_characteristic_equation():
+    """beta_n l of a clamped-free Euler-Bernoulli beam: the n-th root of cos x cosh x = -1, in ((n - 1) pi, n pi)."""
+    from scipy import optimize
+
+    length, s = 1.3, titop.Section.square(0.02)
+    scale = np.sqrt(s.young * s.iz / (s.density * s.area * length**4))
+    got = np.sqrt(titop.analytic_frequencies(length, s, "bending_y", "clamped-free", 7) / scale)
+    ref = [optimize.brentq(lambda x: np.cos(x) + 1.0 / np.cosh(x), (n - 1) * np.pi, n * np.pi, xtol=1e-14) for n in range(1, 8)]
+    np.testing.assert_allclose(got, ref, rtol=1e-6)
