@@ -175,7 +175,7 @@ def sine_build_up(ax: plt.Axes, t: ArrayLike, outputs: ArrayLike, steady: ArrayL
     tau : float
         Time constant of the envelope [s].
     bound : float
-        The requirement, in ``unit`` (drawn at +-bound).
+        The requirement, in ``unit`` (drawn at ±bound).
     labels, quantity, unit : str
         Output names, the y-axis quantity and its unit.
     zoom : float, optional
@@ -190,7 +190,7 @@ def sine_build_up(ax: plt.Axes, t: ArrayLike, outputs: ArrayLike, steady: ArrayL
     env = amp * (1 - np.exp(-t / tau))
     ax.plot(t, env, "k--", lw=1, label=f"envelope of the largest steady amplitude ({amp:.3g} {unit}), tau = {tau:.0f} s")
     ax.plot(t, -env, "k--", lw=1)
-    ax.axhline(bound, color="C3", lw=1, label=f"requirement +-{bound:g} {unit}")
+    ax.axhline(bound, color="C3", lw=1, label=f"requirement ±{bound:g} {unit}")
     ax.axhline(-bound, color="C3", lw=1)
     ax.set(xlabel="time [s]", ylabel=f"{quantity} [{unit}]", xlim=(t[0], t[-1]))
     ax.grid(alpha=0.3)

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .checks import check_option
+from .closedloop import GeneralizedPlant
 
 __all__ = ["SineResponse", "worst_direction", "sine_response", "exact_sine_response", "loop_sine_response"]
 
@@ -166,7 +167,7 @@ def exact_sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, 
     return np.real(np.outer(t_w @ v, np.exp(1j * omega * t))) - transient.real
 
 
-def loop_sine_response(plant, gain: ArrayLike, group: str, omega: float, duration: float,
+def loop_sine_response(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega: float, duration: float,
                        samples_per_period: int = 32) -> SineResponse:
     """:func:`sine_response` of the closed loop ``p~ -> group`` (``"rpe"`` or ``"effort"``) with a static PMA gain.
 

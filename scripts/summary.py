@@ -36,7 +36,7 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
     orders = {f"{row['h_cm']:g}": row["order_G_r"] for row in r5["reduction"]}
     d6, p6 = r6["designs"]["2.139"], r6["paper"]
     opt, p7 = r7["optimum"], r7["paper"]
-    table, paper = r8["table"], r8["paper"]
+    table, paper, td, st = r8["table"], r8["paper"], r8["time_domain"], r6["settings"]
     preset = r7["preset"]
     t30 = next(r for r in r6["sensitivity"] if r["variant"] == "t_delta_30ms")
     fast = root / "benchmarks" / "results" / "codesign_fast.json"
@@ -79,6 +79,11 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
          mu("p~ -> W~u", table), "08"),
+        ("Those worst cases in time: SADM torque ripple of p_max at the critical frequency, from rest: largest steady "
+         "LOS error / PMA force (bound), envelope time constants", "-",
+         f"{max(td['rpe']['steady_amplitudes']):.2f} µrad ({1e6 * st['eps_max']:g}) / "
+         f"{max(td['effort']['steady_amplitudes']):.2f} N ({st['u_max']:g}), "
+         f"{td['rpe']['tau_s']:.0f} s / {td['effort']['tau_s']:.0f} s", "08"),
     ]
 
 
