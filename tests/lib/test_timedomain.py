@@ -123,3 +123,13 @@ def test_bad_shapes_group_and_fit_window_are_refused():
         res.amplitude(periods=20)  # 10 s hold 4.8 periods
     with pytest.raises(ValueError, match="group"):
         timedomain.loop_sine_response(None, np.zeros((4, 8)), "los", WN, 10.0)
+
+
+@pytest.mark.parametrize("n", [16, 32])
+def test_steady_amplitude_is_low_by_the_interpolation_factor(n):
+    """The input linear between samples has, at omega, sinc^2(pi / n) of the sinusoid's amplitude: once the transient
+    has decayed (zeta 0.02 at 3 rad/s: 1000 s are 60 time constants) the fitted amplitude is that factor of sigma."""
+    a, b, c, d = oscillator()
+    res = timedomain.sine_response(a, b, c, d, WN, duration=1000.0, samples_per_period=n)
+    ratio = np.abs(res.amplitude(periods=10)[0]) / res.sigma
+    assert ratio == pytest.approx(np.sinc(1.0 / n) ** 2, rel=1e-5)
