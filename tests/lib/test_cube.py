@@ -144,3 +144,69 @@ def test_cube_structure_and_bad_input():
         cube.cube_members(side="left")
     with pytest.raises(ValueError, match="clamped"):
         modal.participation_factors(model, "N5")
+
+
+# ---- mutation-testing additions (review of 2026-12-03)
+
+def _cantilever_data():
+    rng = np.random.default_rng(4)
+    x = rng.normal(size=(6, 6))
+    rigid = x @ x.T + 6 * np.eye(6)
+    omega = np.array([3.0, 7.5, 20.0])
+    damping = np.array([0.01, 0.02, 0.005])
+    factors = 0.4 * rng.normal(size=(3, 6))
+    return rigid, omega, damping, factors
+
+
+def _transfer(m, s):
+    return m.c @ np.linalg.solve(s * np.eye(m.a.shape[0]) - m.a, m.b) + m.d
+
+
+def test_cantilever_transfer_matches_the_modal_closed_form():
+    """G(s) = -D_P + sum_k L_k^T L_k s^2 / (s^2 + 2 xi_k w_k s + w_k^2) (module docstring), so G(0) = -D_P."""
+    rigid, omega, damping, factors = _cantilever_data()
+    m = modal.cantilever_from_modes(rigid, omega, factors, damping)
+    for s in (0.0, 2.1j, 7.5j, 40j):
+        ref = -rigid + sum(np.outer(lp, lp) * s**2 / (s**2 + 2 * z * w * s + w**2) for lp, w, z in zip(factors, omega, damping))
+        np.testing.assert_allclose(_transfer(m, s), ref, rtol=1e-10, atol=1e-10 * np.abs(rigid).max())
+
+
+def test_participation_factors_round_trip_through_the_cantilever_model():
+    """participation_factors recovers the frequencies, damping ratios and factors (up to sign) that built the model."""
+    rigid, omega, damping, factors = _cantilever_data()
+    mp = modal.participation_factors(modal.cantilever_from_modes(rigid, omega, factors, damping), "P", 3)
+    np.testing.assert_allclose(mp.omega, omega, rtol=1e-10)
+    np.testing.assert_allclose(mp.damping, damping, rtol=1e-8)
+    np.testing.assert_allclose(modal.align_signs(mp.factors, factors), factors, atol=1e-8)
+    np.testing.assert_allclose(modal.effective_mass(mp.factors), np.sum(factors**2, axis=0), rtol=1e-8)
+    assert np.all(mp.rank_one_residual < 1e-8)
+
+
+def test_repeated_mode_has_a_large_rank_one_residual():
+    """Two modes at one frequency with independent factors: the summed residue has rank 2 (residual = ratio of its
+    two eigenvalues, O(1)); an isolated mode stays near 0."""
+    rigid, _, _, factors = _cantilever_data()
+    f = np.array([[1.0, 0, 0, 0, 0, 0], [0, 0.8, 0, 0, 0, 0], factors[2]])
+    mp = modal.participation_factors(modal.cantilever_from_modes(rigid, [5.0, 5.0, 20.0], f, 0.01), "P", 3)
+    assert np.all(mp.rank_one_residual[:2] > 0.5) and mp.rank_one_residual[2] < 1e-8  # 0.8^2 / 1 = 0.64
+
+
+def test_uncertain_first_frequency_closes_to_the_model_at_that_frequency():
+    """With omega1 a parameter, closing its two Delta channels with delta gives the plain model whose first frequency is
+    center + half_range * delta (docstring: exact, restoring term w1^2 eta1 + 2 xi w1 eta1')."""
+    from lib.lft import Parameter
+
+    rigid, omega, damping, factors = _cantilever_data()
+    p = Parameter("omega1", 3.0, 2.5, 3.5)
+    m = modal.cantilever_from_modes(rigid, omega, factors, 0.01, omega1=p)
+    for delta in (-1.0, 0.4, 1.0):
+        dzw = m.d[6:, 6:]
+        k = delta * np.linalg.inv(np.eye(2) - delta * dzw)
+        a = m.a + m.b[:, 6:] @ k @ m.c[6:]
+        b = m.b[:, :6] + m.b[:, 6:] @ k @ m.d[6:, :6]
+        c = m.c[:6] + m.d[:6, 6:] @ k @ m.c[6:]
+        d = m.d[:6, :6] + m.d[:6, 6:] @ k @ m.d[6:, :6]
+        plain = modal.cantilever_from_modes(rigid, np.r_[3.0 + 0.5 * delta, omega[1:]], factors, 0.01)
+        for s in (0.0, 1.7j, 3.2j, 9.0j):
+            got = c @ np.linalg.solve(s * np.eye(a.shape[0]) - a, b) + d
+            np.testing.assert_allclose(got, _transfer(plain, s), rtol=1e-9, atol=1e-9 * np.abs(rigid).max())

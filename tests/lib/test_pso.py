@@ -401,3 +401,228 @@ def test_local_workers_keep_glibc_dynamic_mmap_threshold():
         client.cluster.close()
     assert list(env.values()) == [None]
     assert list(blas.values()) == ["1"]
+
+
+# ---- mutation-testing additions (review of 2026-12-03)
+
+
+def test_velocity_update_uses_inertia_and_the_documented_weights_1_49():
+    """v <- W v + y1 u1 (p - x) + y2 u2 (g - x), u ~ U(0, 1) per component, y1 = y2 = 1.49 (module docstring). With many
+    components, the ratio of each term to its lever arm spans [0, 1.49] (max of 20000 uniforms: within 1e-3 of 1)."""
+    n, d = 4, 20000
+    state = pso.init_swarm(n, -10 * np.ones(d), 10 * np.ones(d), seed=5)
+    state.x[:] = 0.0
+    state.v[:] = 0.0
+    state.v[0] = 1.0
+    state.inertia = 0.5
+    state.p[:] = 1.0
+    state.p[0] = 0.0  # particle 0 at its own best: only W v and the social term towards the better particles at 1
+    state.p_f[:] = 0.0
+    state.p_f[0] = 1.0
+    pso.step_positions(state)
+    social = state.v[0] - 0.5  # = 1.49 u2 (1 - 0)
+    assert social.min() >= 0.0 and social.max() <= 1.49 + 1e-12 and social.max() > 1.49 * (1 - 2e-3)
+    both = state.v[1]  # no better neighbour: g = p, so v = 1.49 (u1 + u2) (1 - 0)
+    assert both.min() >= 0.0 and both.max() <= 2.98 + 1e-12 and both.max() > 2.98 * (1 - 0.05)
+    assert np.array_equal(state.x, state.v)  # x = 0 + v, nothing clipped
+
+
+def test_clipped_components_have_their_velocity_zeroed():
+    """Positions are clipped to the bounds and the velocity zeroed there (module docstring), not elsewhere."""
+    state = pso.init_swarm(4, [0.0, 0.0], [1.0, 1.0], seed=1)
+    state.x[:] = [0.99, 0.5]
+    state.p[:] = state.x
+    state.p_f[:] = 1.0
+    state.v[:] = [0.5, 0.001]
+    state.inertia = 1.0
+    pso.step_positions(state)
+    assert np.all(state.x[:, 0] == 1.0) and np.all(state.v[:, 0] == 0.0)  # clipped: velocity reset
+    assert np.allclose(state.v[:, 1], 0.001) and np.allclose(state.x[:, 1], 0.501)  # inside: v = W v (p = x = g)
+
+
+@pytest.mark.parametrize("rule", pso.RULES)
+def test_largest_neighbourhood_sees_every_particle(rule):
+    """At its largest, the neighbourhood is all the other particles (documented: N = n - 1 others and the particle;
+    MATLAB's code: N = n, the particle included): every particle is pulled towards the only one with a finite best."""
+    n = 6
+    for seed in range(25):
+        state = pso.init_swarm(n, [-10.0], [10.0], seed=seed, rule=rule)
+        state.neighbours = n if rule == "matlab" else n - 1
+        state.x[:, 0] = np.linspace(-1.0, 0.0, n)
+        state.p[:] = state.x
+        state.v[:] = 0.0
+        k = seed % n
+        state.p[k] = 5.0
+        state.p_f[:] = np.inf
+        state.p_f[k] = 0.0
+        pso.step_positions(state)
+        others = np.delete(np.arange(n), k)
+        assert np.all(state.v[others, 0] > 0.0), seed  # g = p_k for every one: a velocity towards +5
+
+
+def test_a_particle_best_moves_only_on_a_strictly_better_value():
+    """MATLAB particleswarm (documented algorithm): "if f < fun(p), then set p = x"; an equal value keeps p."""
+    state = pso.init_swarm(3, [0.0], [1.0], seed=2)
+    pso.update_bests(state, [1.0, 2.0, 3.0])
+    kept = state.p.copy()
+    state.x = state.x + 0.1
+    improved = pso.update_bests(state, [1.0, 2.0, 3.0])
+    assert not improved and np.array_equal(state.p, kept) and state.counter == 1
+
+
+def test_inertia_doubles_only_below_two_and_halves_only_above_five():
+    """Documented rule on improvement: c = max(0, c - 1); W = 2 W if c < 2, W / 2 if c > 5, else unchanged."""
+    for c_before, w_after in ((3, 0.4), (2, 0.8), (6, 0.4), (7, 0.2), (1, 0.8)):
+        state = pso.init_swarm(24, [0.0], [1.0], seed=0)
+        pso.update_bests(state, np.arange(24.0))
+        state.inertia, state.counter = 0.4, c_before
+        assert pso.update_bests(state, np.r_[-1.0, np.full(23, 100.0)])
+        assert state.counter == max(0, c_before - 1) and np.isclose(state.inertia, w_after), c_before
+
+
+def test_minus_infinity_is_a_failed_evaluation_not_a_best():
+    """Non-finite values mean a failed evaluation (run's docstring): -inf must not become the swarm's best."""
+    state = pso.init_swarm(3, [0.0], [1.0], seed=0)
+    pso.update_bests(state, [-np.inf, 2.0, np.nan])
+    assert state.g_f == 2.0 and np.array_equal(state.g, state.x[1]) and state.p_f[0] == np.inf
+
+
+def test_the_first_iteration_evaluates_the_initial_swarm():
+    """The initial swarm counts as the first iteration: the first batch evaluated is init_swarm's positions."""
+    seen = []
+
+    def evaluate(x, state):
+        seen.append(x.copy())
+        return quadratic(x, state)
+
+    pso.run(evaluate, n=5, lower=[0.2, -1.0], upper=[0.7, 3.0], iterations=2, seed=11)
+    assert np.array_equal(seen[0], pso.init_swarm(5, [0.2, -1.0], [0.7, 3.0], seed=11).x)
+    assert not np.array_equal(seen[1], seen[0])
+
+
+def test_each_step_advances_the_random_stream():
+    """The state keeps the generator state after the last draw: two steps from the same positions draw anew."""
+    state = pso.init_swarm(4, [0.0], [1.0], seed=3)
+    pso.update_bests(state, [1.0, 2.0, 3.0, 4.0])
+    x0, v0, rng0 = state.x.copy(), state.v.copy(), state.rng
+    pso.step_positions(state)
+    first = state.v.copy()
+    assert state.rng != rng0
+    state.x, state.v = x0.copy(), v0.copy()
+    pso.step_positions(state)
+    assert not np.array_equal(state.v, first)
+
+
+def test_unevaluated_swarm_round_trips_through_a_checkpoint(tmp_path):
+    """save_state / load_state keep infinite bests (an unevaluated swarm) as inf, not NaN."""
+    state = pso.init_swarm(4, [0.0], [1.0], seed=3)
+    pso.save_state(state, tmp_path / "s.json")
+    back = pso.load_state(tmp_path / "s.json")
+    assert np.all(back.p_f == np.inf) and back.g_f == np.inf
+    assert np.array_equal(back.x, state.x) and np.array_equal(back.v, state.v) and back.rng == state.rng
+    pso.update_bests(back, [3.0, 1.0, np.inf, 2.0])
+    assert back.g_f == 1.0 and np.array_equal(back.p_f, [3.0, 1.0, np.inf, 2.0])
+
+
+def test_m0_is_the_papers_truss_mass_at_3_cm():
+    """Paper: "the initial design having m0 = 183.11 kg" (and Table: 183.11)."""
+    assert codesign.M0_PAPER == 183.11
+
+
+def test_objective_at_the_jc_limit_is_not_penalised():
+    """Paper: f^n = m/m0 + |0.9 - J_c| if J_c <= 2 (the limit included), else m/m0 + 10."""
+    m0 = codesign.M0_PAPER
+    assert codesign.objective_value(50.0, 2.0, m0) == pytest.approx(50.0 / m0 + 1.1)
+    assert codesign.objective_value(50.0, np.nextafter(2.0, 3.0), m0) == pytest.approx(50.0 / m0 + 10)
+    assert codesign.objective_value(50.0, 0.0, m0) == pytest.approx(50.0 / m0 + 0.9)
+
+
+def test_particle_with_jc_at_the_limit_is_ok_and_above_is_penalised(monkeypatch):
+    """evaluate_particle with stand-in models and synthesis: J_c = 2 is "ok" with f = m/m0 + 1.1; J_c > 2 is penalised."""
+    from lib import design, spacecraft
+
+    jc = {"v": 2.0}
+    monkeypatch.setattr(design, "models_at", lambda h, params=None: design.DesignModels(h, None, None, None, np.eye(3), 0.0, 0.0))
+    monkeypatch.setattr(codesign, "truss_mass_from_dc", lambda models, p=None: spacecraft.truss_mass(models.h))
+    monkeypatch.setattr(design, "robust_design", lambda models, settings, **kw: synthesis.SynthesisResult(
+        -np.ones((4, 8)), jc["v"], 0.5, True, "converged", [], None, 1, 0.0, 1))
+    r = codesign.evaluate_particle(0.02)
+    m = spacecraft.truss_mass(0.02)
+    assert r["status"] == "ok" and r["f"] == pytest.approx(m / codesign.M0_PAPER + 1.1)
+    jc["v"] = 2.5
+    r = codesign.evaluate_particle(0.02)
+    assert r["status"] == "penalty: J_c > 2" and r["f"] == pytest.approx(m / codesign.M0_PAPER + 10)
+
+
+def test_warm_start_is_the_gain_of_the_iterations_best_particle(monkeypatch):
+    """Step 3: the synthesis is warm-started from the previous iteration's best particle (lowest f^n), not any other."""
+    starts = []
+
+    def fake(h, gain0=None, fail=False, **kw):
+        starts.append(None if gain0 is None else float(np.asarray(gain0)[0, 0]))
+        return {"h": h, "f": (h - 0.021) ** 2, "J_c": 0.1, "gain": [[h]], "scenarios": [[h, 0.0, 0.0, 0.0]], "status": "ok"}
+
+    def log(s):
+        pass
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    state = codesign.run_codesign(6, 2, seed=4, progress=False, log=log)
+    first = [r for r in state.history if r["iteration"] == 0]
+    best_h = min(first, key=lambda r: r["f"])["h"]
+    assert starts[:6] == [None] * 6
+    assert set(starts[6:]) == {best_h}
+
+
+def test_truss_mass_from_the_inverted_dc_gain_with_an_offset_cog():
+    """The DC gain W_P1 -> a_P1 is the inverse of the rigid mass matrix at P1 (CoG away from P1): its inverse's (1, 1)
+    entry is the spacecraft mass, minus the hub, panels, antenna and PMAs gives the truss. A stand-in model whose DC
+    gain is exactly that inverse (with dynamics: D - C A^-1 B) gives back the truss mass of rho h^2 L."""
+    from types import SimpleNamespace
+
+    from lib import spacecraft
+
+    h = 0.02
+    masses = spacecraft.component_masses(h)
+    m = sum(masses.values())
+    r = np.array([0.3, -0.8, 1.4])  # CoG offset from P1 [m]
+    rx = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    rigid = np.block([[m * np.eye(3), -m * rx], [m * rx, np.diag([900.0, 1100.0, 700.0]) - m * rx @ rx]])
+    rng = np.random.default_rng(0)
+    ni, no = len(spacecraft.INPUTS), len(spacecraft.OUTPUTS)
+    a = -np.diag([2.0, 3.0, 5.0])
+    b, c = rng.normal(size=(3, ni)), rng.normal(size=(no, 3))
+    d = rng.normal(size=(no, ni)) + c @ np.linalg.solve(a, b)  # DC gain D - C A^-1 B = random + 0
+    ii = [spacecraft.INPUTS.index(f"W_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    oo = [spacecraft.OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    d[np.ix_(oo, ii)] = np.linalg.inv(rigid) + (c @ np.linalg.solve(a, b))[np.ix_(oo, ii)]
+    g_r = SimpleNamespace(params={}, evaluate=lambda values: (a, b, c, d))
+    got = codesign.truss_mass_from_dc(SimpleNamespace(h=h, g_r=g_r))
+    assert got == pytest.approx(masses["truss"], rel=1e-9)
+
+
+def test_a_complete_checkpoint_is_returned_without_evaluating(tmp_path):
+    """Only a checkpoint with *more* completed iterations than asked is refused: a complete one resumes to itself."""
+    ck = tmp_path / "state.json"
+    done = pso.run(quadratic, n=4, lower=[0.0], upper=[1.0], iterations=3, seed=2, checkpoint=ck)
+    calls = []
+
+    def evaluate(x, state):
+        calls.append(x)
+        return quadratic(x, state)
+
+    again = pso.run(evaluate, n=4, lower=[0.0], upper=[1.0], iterations=3, seed=2, checkpoint=ck)
+    assert not calls and again.iteration == 3 and again.history == done.history and again.g_f == done.g_f
+
+
+def test_initial_swarm_is_uniform_in_the_bounds_with_velocities_in_plus_minus_the_range():
+    """Initial positions uniform in the bounds, velocities uniform in [-range, range] (module docstring)."""
+    lo, hi = np.array([0.2, -1.0]), np.array([0.7, 3.0])
+    state = pso.init_swarm(400, lo, hi, seed=9)
+    assert np.all(state.x >= lo) and np.all(state.x <= hi)
+    assert np.allclose(state.x.min(axis=0), lo, atol=0.02 * (hi - lo)) and np.allclose(state.x.max(axis=0), hi, atol=0.02 * (hi - lo))
+    span = hi - lo
+    assert np.all(np.abs(state.v) <= span)
+    assert np.allclose(state.v.min(axis=0), -span, atol=0.03 * span) and np.allclose(state.v.max(axis=0), span, atol=0.03 * span)
+    assert state.neighbours == 100 and state.inertia == 1.1 and np.all(state.p_f == np.inf)
+    for n, n_min in ((2, 1), (3, 2), (6, 2), (8, 2), (12, 3), (24, 6)):  # min(max(2, floor(n / 4)), n - 1)
+        assert pso.init_swarm(n, [0.0], [1.0], seed=0).neighbours == n_min

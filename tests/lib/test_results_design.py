@@ -130,3 +130,36 @@ def test_stored_design_07_refuses_a_penalised_optimum(tmp_path: pathlib.Path) ->
         design.stored_design("auto", str(tmp_path))
     results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "ok"}}, tmp_path)
     assert design.stored_design("auto", str(tmp_path))[:2] == ("07", 0.02)
+
+
+# ---- mutation-testing additions (review of 2026-12-03)
+
+
+def test_complex_values_keep_real_and_imaginary_parts() -> None:
+    assert results.to_jsonable(np.complex128(1.5 - 2.0j)) == {"re": 1.5, "im": -2.0}
+    assert results.to_jsonable([complex(-np.inf, -3.0)]) == [{"re": "-inf", "im": -3.0}]
+
+
+def test_non_finite_floats_round_trip_with_their_sign(tmp_path: pathlib.Path) -> None:
+    payload = {"a": -np.inf, "b": [np.inf, np.float32(-np.inf)], "c": {"d": np.nan}, "e": -1.5}
+    path = results.write_json(tmp_path / "x.json", payload)
+    back = results.from_jsonable(json.loads(path.read_text()))
+    assert back["a"] == -np.inf and back["b"] == [np.inf, -np.inf] and np.isnan(back["c"]["d"]) and back["e"] == -1.5
+
+
+def test_stored_design_07_without_a_status_is_accepted(tmp_path: pathlib.Path) -> None:
+    """Results files written before 2026-12-03 hold no status in the optimum: it is taken as valid."""
+    _store(tmp_path)
+    gain = np.full((4, 8), -2.0)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.0215, "gain": gain}}, tmp_path)
+    src, h, k = design.stored_design("auto", str(tmp_path))
+    assert (src, h) == ("07", 0.0215) and np.array_equal(k, gain)
+
+
+def test_stored_design_takes_papermills_integer_sources(tmp_path: pathlib.Path) -> None:
+    """6 and 7 (papermill's -p turns "06" into 6) are the same sources as "06" and "07"."""
+    gain = _store(tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.0215, "gain": -gain, "status": "ok"}}, tmp_path)
+    assert design.stored_design(7, str(tmp_path))[:2] == ("07", 0.0215)
+    src, h, k = design.stored_design(6, str(tmp_path), 0.02139)
+    assert (src, h) == ("06", 0.02139) and np.array_equal(k, gain)

@@ -427,3 +427,103 @@ def test_synthesis_options_are_checked_before_any_work(option, value, error):
 def test_search_options_are_checked(option, value, error):
     with pytest.raises(error, match=option):
         synthesis.worst_case(None, -np.ones((4, 8)), np.eye(3), LoopSettings.from_parameters(), **{option: value})
+
+
+# ---- mutation-testing additions (review of 2026-12-03)
+
+
+def test_a_single_small_angle_in_degrees_is_accepted():
+    """Only a grid of *several* angles all within pi is refused as radians: one angle of 2 deg is a valid grid."""
+    assert synthesis._thetas_deg([2.0]).tolist() == [2.0]
+    assert len(synthesis.default_scenarios([1.0])) == 1 + 4
+    with pytest.raises(ValueError, match="radians"):
+        synthesis._thetas_deg([0.0, 3.0])
+
+
+def test_default_scenarios_convert_the_angles_to_radians():
+    """Nominal first, then the corners at each angle [deg], stored as theta [rad]."""
+    sc = synthesis.default_scenarios([0.0, 90.0, 180.0])
+    assert sc[0] == Scenario()
+    assert [s.theta for s in sc[1:]] == pytest.approx([0.0] * 4 + [np.pi / 2] * 4 + [np.pi] * 4, abs=1e-15)
+    assert [tuple(s.vector()[:3]) for s in sc[1:5]] == list(synthesis.CORNERS)
+
+
+def test_zoom_max_stays_inside_its_bracket():
+    """A maximum at a bracket's end is found there and never outside the bracket (the refined grids are clipped)."""
+    values, x = synthesis._zoom_max(lambda x: x.copy(), np.array([0.0, -2.0]), np.array([1.0, -1.0]))
+    assert x.tolist() == [1.0, -1.0] and values.tolist() == [1.0, -1.0]
+    values, x = synthesis._zoom_max(lambda x: -x, np.array([0.0]), np.array([1.0]))
+    assert x.tolist() == [0.0] and values.tolist() == [0.0]
+
+
+def test_initial_simplex_is_inside_the_box_with_the_documented_steps():
+    """Steps 0.3 (normalised) and 10 deg, one coordinate per vertex, every vertex inside [-1, 1]^3 x [0, pi]."""
+    steps = np.array([0.3, 0.3, 0.3, np.deg2rad(10.0)])
+    for x0 in (np.zeros(4), np.array([1.0, -1.0, 0.9, np.pi]), np.array([-1.0, 1.0, -0.8, 0.0]), np.array([0.5, 0.75, 1.0, 3.1])):
+        s = synthesis._simplex(x0)
+        assert s.shape == (5, 4) and np.array_equal(s[0], x0)
+        assert np.all(s[:, :3] >= -1.0) and np.all(s[:, :3] <= 1.0) and np.all(s[:, 3] >= 0.0) and np.all(s[:, 3] <= np.pi)
+        np.testing.assert_allclose(np.abs(s[1:] - x0), np.diag(steps), atol=1e-15)
+
+
+class _SetValues:
+    """Stand-in for the scenario set's state: its worst J and Z."""
+
+    def __init__(self, rpe, effort):
+        self.values = {"rpe": rpe, "effort": effort}
+
+    def value(self, group):
+        return self.values[group]
+
+
+def test_uncovered_adds_unstable_and_worse_scenarios_only():
+    """Covered = within cover_tol of the set's J (or Z); an effort scenario is added only if worse than the set's Z and
+    above gamma (1 - margin); an unstable one (the first) always; each once."""
+    s_j, s_z, s_u, s_v = Scenario(1.0, 0, 0, 0.1), Scenario(-1.0, 0, 0, 0.2), Scenario(0, 1.0, 0, 0.3), Scenario(0, -1.0, 0, 0.4)
+
+    def search(j, z, unstable=()):
+        return synthesis.WorstCase({"rpe": j, "effort": z}, {"rpe": s_j, "effort": s_z}, {"rpe": 1.0, "effort": 2.0}, 1, list(unstable))
+
+    state = _SetValues(0.10, 0.90)
+    assert synthesis._uncovered(state, search(0.1009, 0.95), 1.0, 0.01, 0.02) == []  # J within 1 %, Z below 0.98
+    assert synthesis._uncovered(state, search(0.1011, 0.95), 1.0, 0.01, 0.02) == [s_j]
+    assert synthesis._uncovered(state, search(0.10, 0.985), 1.0, 0.01, 0.02) == [s_z]  # above 0.98 and 1.01 x 0.90
+    assert synthesis._uncovered(_SetValues(0.1, 0.99), search(0.10, 0.995), 1.0, 0.01, 0.02) == []  # within 1 % of the set's Z
+    assert synthesis._uncovered(state, search(0.10, 0.5, [s_u, s_v]), 1.0, 0.01, 0.02) == [s_u]
+    both = synthesis.WorstCase({"rpe": np.inf, "effort": np.inf}, {"rpe": s_u, "effort": s_u}, {"rpe": 1.0, "effort": 1.0}, 1, [s_u])
+    assert synthesis._uncovered(state, both, 1.0, 0.01, 0.02) == [s_u]
+
+
+def test_per_group_evaluates_each_point_with_its_own_group():
+    group_of = np.array([1, 0, 1, 1, 0])
+    out = synthesis._per_group(("rpe", "effort"), group_of, lambda g, at: np.full(at.sum(), 1.0 if g == "rpe" else 2.0))
+    assert out.tolist() == [2.0, 1.0, 2.0, 2.0, 1.0]
+
+
+def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
+    """min t s.t. f_j + g_j d <= t, |d| <= r, by hand: t = max(2 - d, d) is least at d = 1 (t = 1) inside r = 5, at the
+    trust-region edge d = 0.5 (t = 1.5) for r = 0.5; t may be negative (the objective has no lower bound)."""
+    obj = [(2.0, np.array([-1.0])), (0.0, np.array([1.0]))]
+    d, t, s = synthesis._lp(obj, [], np.array([5.0]))
+    assert np.allclose([d[0], t, s], [1.0, 1.0, 0.0])
+    d, t, _ = synthesis._lp(obj, [], np.array([0.5]))
+    assert np.allclose([d[0], t], [0.5, 1.5])
+    d, t, _ = synthesis._lp([(-1.0, np.array([1.0]))], [], np.array([0.5]))
+    assert np.allclose([d[0], t], [-0.5, -1.5])
+
+
+def test_scenario_physical_values_give_theta_in_degrees():
+    from types import SimpleNamespace
+
+    from lib.lft import Parameter
+
+    params = {"M_SC": Parameter("M_SC", 100.0, 90.0, 110.0), "Iyy_SC": Parameter("Iyy_SC", 50.0, 40.0, 60.0),
+              "omega1_SP": Parameter("omega1_SP", 3.0, 2.0, 4.0)}
+    phys = Scenario(1.0, -0.5, 0.0, np.pi / 3).physical(SimpleNamespace(params=params))
+    assert phys == pytest.approx({"M_SC": 110.0, "Iyy_SC": 45.0, "omega1_SP": 3.0, "theta_deg": 60.0})
+
+
+def test_scenario_from_vector_clips_to_the_box():
+    sc = Scenario.from_vector([2.0, -3.0, 0.5, 4.0])
+    assert sc == Scenario(1.0, -1.0, 0.5, np.pi)
+    assert Scenario.from_vector([0.0, 0.0, 0.0, -0.2]).theta == 0.0

@@ -133,3 +133,35 @@ def test_steady_amplitude_is_low_by_the_interpolation_factor(n):
     res = timedomain.sine_response(a, b, c, d, WN, duration=1000.0, samples_per_period=n)
     ratio = np.abs(res.amplitude(periods=10)[0]) / res.sigma
     assert ratio == pytest.approx(np.sinc(1.0 / n) ** 2, rel=1e-5)
+
+
+# ---- mutation-testing additions (review of 2026-12-03)
+def test_fitted_amplitude_has_the_phase_of_the_steady_state():
+    """Fourier coefficient 2/T int y e^{-j w t} dt: at resonance the oscillator's steady state is
+    g = 1 / (2 j zeta wn^2), purely imaginary; the fit (transient decayed: 400 s is 24 time constants) gives g, phase
+    included, and so does ``steady``."""
+    a, b, c, d = oscillator()
+    res = timedomain.sine_response(a, b, c, d, WN, duration=400.0, samples_per_period=64)
+    g = 1.0 / (2j * ZETA * WN**2)
+    assert abs(res.amplitude(periods=10)[0] - g) < 2e-3 * abs(g)
+    assert abs(res.steady[0] - g) < 1e-12 * abs(g)
+
+
+def test_steady_amplitude_is_the_transfer_along_the_complex_direction():
+    """``steady`` = T(j w) v for the complex worst direction v, and the fit over the last periods tends to it."""
+    a, b, c, d = mimo()
+    w = 1.0
+    res = timedomain.sine_response(a, b, c, d, w, duration=1200.0, samples_per_period=64)
+    t_w = c @ np.linalg.solve(1j * w * np.eye(4) - a, b) + d
+    assert np.abs(res.direction.imag).max() > 1e-3  # a genuinely complex direction
+    assert np.allclose(res.steady, t_w @ res.direction, rtol=1e-12, atol=0)
+    assert np.abs(res.amplitude(periods=10) - res.steady).max() < 3e-3 * np.linalg.norm(res.steady)
+
+
+def test_simulated_record_covers_the_duration_with_the_asked_step():
+    a, b, c, d = oscillator()
+    period = 2 * np.pi / WN
+    for duration in (10.0, 3 * period, 25.3):
+        res = timedomain.sine_response(a, b, c, d, WN, duration=duration, samples_per_period=16)
+        assert res.t[0] == 0.0 and res.t[-1] >= duration - 1e-12 and res.t[-1] < duration + period / 16
+        assert np.allclose(np.diff(res.t), period / 16)
