@@ -183,7 +183,11 @@ def sine_build_up(ax: plt.Axes, t: ArrayLike, outputs: ArrayLike, steady: ArrayL
         hides).
     """
     t = np.asarray(t, dtype=float)
-    y = np.asarray(outputs, dtype=float) * scale
+    y = np.atleast_2d(np.asarray(outputs, dtype=float)) * scale
+    if len(labels) != y.shape[0]:
+        raise ValueError(f"labels: one per output row, got {len(labels)} labels for {y.shape[0]} outputs")
+    if zoom is not None and not 0 < zoom <= t[-1] - t[0]:
+        raise ValueError(f"zoom must be in (0, {t[-1] - t[0]:g}] s (the record's length), got {zoom!r}")
     for k, lab in enumerate(labels):
         ax.plot(t, y[k], lw=0.4, color=f"C{k}", label=lab)
     amp = float(np.abs(np.asarray(steady)).max()) * scale

@@ -1,16 +1,18 @@
 """Time-domain view of a worst case: the response from rest to the worst sinusoidal disturbance.
 
 Beyond the paper, whose performance indices are H-infinity norms: ``J_c = sup_w sigma_max(T(jw))`` is the
-steady-state amplitude of the output when the normalised SADM torques ``p~`` are a sinusoid of unit amplitude at
-the critical frequency, with the two torques in the ratio and phase of the top right singular vector ``v`` of
-``T(jw)``. :func:`sine_response` simulates that from rest by time stepping (:func:`control.forced_response`: exact
+steady-state amplitude (2-norm over the outputs) when the normalised SADM torques ``p~`` are a sinusoid of unit
+2-norm at the critical frequency, the two torques in the ratio and phase of the top right singular vector ``v`` of
+``T(jw)`` (so neither SADM reaches p_max alone). :func:`sine_response` simulates that from rest by time stepping (:func:`control.forced_response`: exact
 for an input linear between samples), and :func:`exact_sine_response` gives the same response in closed form,
 
 ``x(t) = Re(X e^{jwt}) - e^{At} Re(X)``,  ``X = (jwI - A)^-1 B v``,  ``y = C x + D Re(v e^{jwt})``,
 
 with ``e^{At}`` applied through the eigen-decomposition of ``A``: two independent methods, which the notebooks
-compare. The output's envelope grows as ``1 - e^{-zeta w t}`` of the closed-loop pole near ``w``: with the damping
-of these structures (a few 1e-4 after control) the worst case takes minutes to build up.
+compare. Driven from rest at ``w`` close to the damped frequency of a lightly damped pole ``lambda`` that dominates
+the response (``|w - Im lambda| << -Re lambda``, as at a resonance peak), the output's envelope grows as
+``1 - e^{t Re lambda}``; detuned, ``|1 - e^{(lambda - jw) t}|`` beats. With the damping left on these structures
+(3e-4 to 4e-3 after control) the worst case takes minutes to build up.
 """
 
 from __future__ import annotations
@@ -25,6 +27,10 @@ from .checks import check_option
 from .closedloop import GeneralizedPlant
 
 __all__ = ["SineResponse", "worst_direction", "sine_response", "exact_sine_response", "loop_sine_response"]
+
+# eigenvector condition number above which exact_sine_response refuses A: its error grows as that number times 1e-16
+# (a review measured 5e-13, 4e-11, 4e-9 at 2e4, 2e6, 2e8, and 0.4 of the response for a Jordan block)
+MAX_EIGVEC_COND = 1e8
 
 
 @dataclass(frozen=True)
@@ -90,7 +96,8 @@ def _transfer(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega: float) -> t
 
 
 def worst_direction(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega: float) -> tuple[float, NDArray[np.complex128]]:
-    """Largest singular value of ``T(j omega)`` and its input direction (unit complex vector).
+    """Largest singular value of ``T(j omega)`` and its input direction (unit complex vector; any unit vector of the
+    top singular subspace if the largest singular value is repeated).
 
     Parameters
     ----------
@@ -117,17 +124,22 @@ def sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega:
     omega : float
         Input frequency [rad/s], > 0.
     duration : float
-        Simulated time [s], at least one period.
+        Simulated time [s], from one period to 1e6 periods of the input.
     samples_per_period : int
         Time steps per period of the input (>= 8). The step is exact for an input linear between samples: the error
         is that of the linear interpolation of the sinusoid, whose component at ``omega`` is ``sinc^2(pi / n)`` of it,
-        ``n = samples_per_period``: the steady-state amplitude comes out ``pi^2 / (3 n^2)`` low (3.2e-3 at 32).
+        ``n = samples_per_period``: for a strictly proper model small at ``(n +- 1) omega`` (as at a resonance), the
+        steady-state amplitude comes out ``pi^2 / (3 n^2)`` low (3.2e-3 at 32), and the response is that of the
+        sinusoid of direction ``sinc^2(pi / n) v``.
     direction : array_like (m,), optional
         Complex input direction ``v`` (normalised to unit 2-norm); default the worst one (:func:`worst_direction`).
     """
     a, b, c, d = _checked(a, b, c, d)
     check_option("omega", omega, 0.0, open_low=True)
     check_option("samples_per_period", samples_per_period, 8, integer=True)
+    abscissa = float(np.linalg.eigvals(a).real.max()) if a.size else -np.inf
+    if abscissa >= 0:
+        raise ValueError(f"the model is not stable (largest real part of a pole {abscissa:.3g} 1/s): it has no steady state")
     period = 2 * np.pi / omega
     check_option("duration", duration, period, 1e6 * period)
     x, t_w = _transfer(a, b, c, d, omega)
@@ -149,19 +161,30 @@ def sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega:
 
 def exact_sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega: float, direction: ArrayLike,
                         t: ArrayLike) -> NDArray[np.float64]:
-    """Closed-form response from rest to ``Re(v e^{j omega t})`` at the times ``t`` [s] (``A`` diagonalisable).
+    """Closed-form response from rest to ``Re(v e^{j omega t})`` at the times ``t`` [s].
 
     ``y(t) = Re((C X + D v) e^{j omega t}) - C e^{At} Re(X)``, ``X = (j omega I - A)^-1 B v``, with ``e^{At}``
-    through the eigen-decomposition ``A = V diag(lambda) V^-1``. Returns the outputs, shape (q, len(t)).
+    through the eigen-decomposition ``A = V diag(lambda) V^-1``; ``v`` is used as given (not normalised). Returns the
+    outputs, shape (q, len(t)).
+
+    Raises
+    ------
+    ValueError
+        If ``A`` is defective or nearly so (condition number of ``V`` above ``MAX_EIGVEC_COND``): the error of the
+        eigen-decomposition grows as that condition number times the machine precision.
     """
     a, b, c, d = _checked(a, b, c, d)
     check_option("omega", omega, 0.0, open_low=True)
     v = np.asarray(direction, dtype=complex).ravel()
-    if v.shape != (b.shape[1],):
-        raise ValueError(f"direction must hold {b.shape[1]} entries, got shape {np.shape(direction)}")
+    if v.shape != (b.shape[1],) or not np.all(np.isfinite(v)):
+        raise ValueError(f"direction must be a finite vector of {b.shape[1]} entries, got shape {np.shape(direction)}")
     t = np.asarray(t, dtype=float).ravel()
     x, t_w = _transfer(a, b, c, d, omega)
     lam, vec = np.linalg.eig(a)
+    cond = np.linalg.cond(vec)
+    if not cond <= MAX_EIGVEC_COND:
+        raise ValueError(f"A is defective or nearly so (eigenvector condition number {cond:.2g} > {MAX_EIGVEC_COND:g}): "
+                         "the closed form through eig is not accurate; use sine_response (time stepping)")
     z0 = np.linalg.solve(vec, (x @ v).real)  # the initial state X_r in modal coordinates
     transient = (c @ vec) @ (z0[:, None] * np.exp(np.outer(lam, t)))
     return np.real(np.outer(t_w @ v, np.exp(1j * omega * t))) - transient.real

@@ -79,8 +79,8 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
          mu("p~ -> W~u", table), "08"),
-        ("Those worst cases in time: SADM torque ripple of p_max at the critical frequency, from rest: largest steady "
-         "LOS error / PMA force (bound), envelope time constants", "-",
+        ("Those worst cases in time: SADM torques of 2-norm p_max at the critical frequency, from rest: largest steady "
+         "RPE / PMA force (bound), envelope time constants", "-",
          f"{max(td['rpe']['steady_amplitudes']):.2f} µrad ({1e6 * st['eps_max']:g}) / "
          f"{max(td['effort']['steady_amplitudes']):.2f} N ({st['u_max']:g}), "
          f"{td['rpe']['tau_s']:.0f} s / {td['effort']['tau_s']:.0f} s", "08"),

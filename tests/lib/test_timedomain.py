@@ -165,3 +165,41 @@ def test_simulated_record_covers_the_duration_with_the_asked_step():
         res = timedomain.sine_response(a, b, c, d, WN, duration=duration, samples_per_period=16)
         assert res.t[0] == 0.0 and res.t[-1] >= duration - 1e-12 and res.t[-1] < duration + period / 16
         assert np.allclose(np.diff(res.t), period / 16)
+
+
+# ---- second review (2026-12-03): feedthrough, defective and unstable models
+def test_feedthrough_enters_steady_state_and_closed_form():
+    """With D != 0 (random stable 2x2 system) the closed form equals a dense reference, y = C x + D u with x from the
+    matrix exponential of the augmented system, and the steady amplitude is T(jw) v including D."""
+    from scipy.linalg import expm
+
+    rng = np.random.default_rng(11)
+    a = rng.normal(size=(4, 4)) - 4.0 * np.eye(4)
+    b, c, d = rng.normal(size=(4, 2)), rng.normal(size=(2, 4)), rng.normal(size=(2, 2))
+    w, v = 1.7, np.array([0.6, 0.8j])
+    t = np.linspace(0.0, 6.0, 7)
+    # reference: the input Re(v e^{jwt}) as the output of an exact oscillator (states cos, sin), one expm per time
+    big = np.zeros((8, 8))
+    big[:4, :4], big[:4, 4:6], big[:4, 6:8] = a, b @ np.diag(v.real), -b @ np.diag(v.imag)
+    big[4:6, 6:8], big[6:8, 4:6] = -w * np.eye(2), w * np.eye(2)
+    z0 = np.r_[np.zeros(4), np.ones(2), np.zeros(2)]  # cos = 1, sin = 0 at t = 0
+    ref = []
+    for tk in t:
+        z = expm(big * tk) @ z0
+        u = v.real * z[4:6] - v.imag * z[6:8]
+        ref.append(c @ z[:4] + d @ u)
+    got = timedomain.exact_sine_response(a, b, c, d, w, v, t)
+    np.testing.assert_allclose(got, np.array(ref).T, rtol=1e-9, atol=1e-12)
+    res = timedomain.sine_response(a, b, c, d, w, 10.0, direction=v)
+    np.testing.assert_allclose(res.steady, (c @ np.linalg.solve(1j * w * np.eye(4) - a, b) + d) @ (v / np.linalg.norm(v)), rtol=1e-12)
+
+
+def test_defective_unstable_and_nan_inputs_are_refused():
+    jordan = np.array([[-0.5, 1.0], [0.0, -0.5]])
+    b, c, d = np.array([[0.0], [1.0]]), np.array([[1.0, 0.0]]), np.zeros((1, 1))
+    with pytest.raises(ValueError, match="defective"):
+        timedomain.exact_sine_response(jordan, b, c, d, 1.0, [1.0], [0.0, 1.0])
+    with pytest.raises(ValueError, match="not stable"):
+        timedomain.sine_response(-jordan, b, c, d, 1.0, 10.0)
+    with pytest.raises(ValueError, match="direction"):
+        timedomain.exact_sine_response(*oscillator(), WN, [np.nan], [0.0])
