@@ -96,6 +96,12 @@ def _transfer(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega: float) -> t
     return x, c @ x + d
 
 
+def _top(t_w: NDArray) -> tuple[float, NDArray]:
+    """Largest singular value of ``T(j omega)`` and its input direction (the top right singular vector)."""
+    _, s, vh = np.linalg.svd(t_w)
+    return float(s[0]), vh[0].conj()
+
+
 def worst_direction(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega: float) -> tuple[float, NDArray[np.complex128]]:
     """Largest singular value of ``T(j omega)`` and its input direction (unit complex vector; any unit vector of the
     top singular subspace if the largest singular value is repeated).
@@ -109,9 +115,7 @@ def worst_direction(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omeg
     """
     a, b, c, d = _checked(a, b, c, d)
     check_option("omega", omega, 0.0, open_low=True)
-    _, t = _transfer(a, b, c, d, omega)
-    _, s, vh = np.linalg.svd(t)
-    return float(s[0]), vh[0].conj()
+    return _top(_transfer(a, b, c, d, omega)[1])
 
 
 def sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega: float, duration: float,
@@ -143,11 +147,9 @@ def sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega:
         raise ValueError(f"the model is not stable (largest real part of a pole {abscissa:.3g} 1/s): it has no steady state")
     period = 2 * np.pi / omega
     check_option("duration", duration, period, 1e6 * period)
-    x, t_w = _transfer(a, b, c, d, omega)
-    if direction is None:
-        _, s, vh = np.linalg.svd(t_w)
-        v = vh[0].conj()
-    else:
+    _, t_w = _transfer(a, b, c, d, omega)
+    sigma, v = _top(t_w)
+    if direction is not None:
         v = np.asarray(direction, dtype=complex).ravel()
         if v.shape != (b.shape[1],) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
             raise ValueError(f"direction must be a finite nonzero vector of {b.shape[1]} entries, got {np.shape(direction)}")
@@ -157,7 +159,7 @@ def sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega:
     u = np.real(np.outer(v, np.exp(1j * omega * t)))
     sim = ct.forced_response(ct.ss(a, b, c, d), t, u, squeeze=False)
     outputs = np.asarray(sim.outputs).reshape(c.shape[0], t.size)
-    return SineResponse(t, u, outputs, float(omega), v, t_w @ v, float(np.linalg.svd(t_w, compute_uv=False)[0]))
+    return SineResponse(t, u, outputs, float(omega), v, t_w @ v, sigma)
 
 
 def exact_sine_response(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, omega: float, direction: ArrayLike,
