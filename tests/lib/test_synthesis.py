@@ -527,3 +527,47 @@ def test_scenario_from_vector_clips_to_the_box():
     sc = Scenario.from_vector([2.0, -3.0, 0.5, 4.0])
     assert sc == Scenario(1.0, -1.0, 0.5, np.pi)
     assert Scenario.from_vector([0.0, 0.0, 0.0, -0.2]).theta == 0.0
+
+
+# ---- the stabilisation phase (session of 2026-12-03, sixth: no unit test reached it before; notebooks 06/07 only)
+def _grid_gain(h: float) -> np.ndarray:
+    """The stored co-design grid's robust gain at section side ``h`` [m] (data/results/07_grid.json)."""
+    import json
+    from pathlib import Path
+
+    grid = json.loads((Path(__file__).parents[2] / "data" / "results" / "07_grid.json").read_text())
+    return np.array(next(r["gain"] for r in grid["records"] if abs(r["h"] - h) < 1e-9 and r["status"] == "ok"))
+
+
+@pytest.mark.parametrize("scale", [1.0, 3.0])
+def test_stabilise_restores_a_warm_start_that_is_unstable_at_the_new_h(model, inertia, scale):
+    """The warm start the co-design makes: the 2.1 cm grid design's gain (times ``scale``) at 2.139 cm leaves a pole
+    with a positive margin (0.149 and 6.64 1/s, measured). The stabilisation phase must end with every plant stable
+    and damped as required, each accepted step lowering the abscissa, and its reported abscissa must be that of a
+    fresh dense evaluation of the returned gain (not a stale or a modal one)."""
+    scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
+    plants = [plant_at(model, s, inertia, ST) for s in scs]
+    prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4)
+    start = prob.evaluate_all(scale * _grid_gain(0.021))
+    assert start.abscissa() > 0.1 and not start.stable()
+    end = synthesis._stabilise(prob, start)
+    assert end.stable() and end.abscissa() < -1e-7
+    steps = [h["abscissa"] for h in prob.history if h["phase"] == "stabilise"]
+    assert steps and steps[-1] == end.abscissa()
+    assert np.all(np.diff([start.abscissa(), *steps]) < 0)
+    # every pole of the returned loops is stable with a damping of at least the required 2e-4 (capped at half the
+    # plant's passive damping, loop_peaks): checked on the dense closed loops, independently of the LP's rows
+    for p in plants:
+        lam = np.linalg.eigvals(p.closed_loop(end.gain)[0])
+        zeta_req = min(2e-4, 0.5 * p.passive_damping())
+        assert np.max(lam.real + zeta_req * np.abs(lam)) < -1e-7
+    assert np.isclose(prob.evaluate_all(end.gain, dense=True).abscissa(), end.abscissa(), rtol=1e-9, atol=1e-12)
+
+
+def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
+    """A start already stable at every plant is returned as is, with no iteration counted."""
+    plants = [plant_at(model, Scenario(), inertia, ST)]
+    prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4)
+    start = prob.evaluate_all(-np.ones((4, 8)))
+    assert start.stable()
+    assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
