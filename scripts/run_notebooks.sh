@@ -3,11 +3,15 @@
 #
 #   bash scripts/run_notebooks.sh                       # paper settings: figures/ and data/results/
 #   bash scripts/run_notebooks.sh --params p.yaml --out runs/my_study
+#   bash scripts/run_notebooks.sh --params study_dir/ --out runs/my_study
 #
 # Executed copies go to <out>/notebooks (default runs/latest). With --out, figures and
 # results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched.
 # --params takes a YAML file of parameters applied to every notebook (unknown names
-# are ignored by the notebooks that do not declare them).
+# are ignored by the notebooks that do not declare them), or a folder: its all.yaml (if any)
+# applies to every notebook, then NN_name.yaml (if any) to that notebook alone, overriding
+# all.yaml (the layout of tests/smoke/). Several notebooks share parameter names with
+# different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
 set -euo pipefail
 PY="${PYTHON:-python3}"
 usage="use --out DIR, --params FILE.yaml, --no-install"
@@ -23,7 +27,7 @@ done
 # paths given on the command line are the caller's, not the project folder's (the script changes folder below)
 case "$out" in ""|/*) ;; *) out="$PWD/$out" ;; esac
 case "$params" in ""|/*) ;; *) params="$PWD/$params" ;; esac
-[ -z "$params" ] || [ -f "$params" ] || { echo "no parameter file $params" >&2; exit 2; }
+[ -z "$params" ] || [ -e "$params" ] || { echo "no parameter file or folder $params" >&2; exit 2; }
 cd "$(dirname "$0")/.."
 # the kernels (run in notebooks/) import this checkout's lib, whatever checkout is installed in editable mode
 export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
@@ -38,15 +42,19 @@ if [ -n "$out" ]; then
 else
   nbdir="runs/latest/notebooks"
 fi
-[ -z "$params" ] || extra+=(-f "$params")
+[ -z "$params" ] || [ -d "$params" ] || extra+=(-f "$params")
 mkdir -p "$nbdir"
 # A notebook whose final checks fail (e.g. notebook 07's PSO-versus-grid check) has already saved its results and
 # figures: the later notebooks still run, and the job exits non-zero at the end naming the failed ones.
 failed=()
 for nb in notebooks/[0-9][0-9]_*.ipynb; do
   echo "== $nb"
+  own=()  # a parameter folder's files for this notebook: all.yaml, then its own (later files override earlier ones)
+  if [ -d "$params" ]; then
+    for f in "$params/all.yaml" "$params/$(basename "$nb" .ipynb).yaml"; do [ ! -f "$f" ] || own+=(-f "$f"); done
+  fi
   "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" ${extra[@]+"${extra[@]}"} \
-    || failed+=("$(basename "$nb")")
+    ${own[@]+"${own[@]}"} || failed+=("$(basename "$nb")")
 done
 echo "executed notebooks in $nbdir"
 if [ ${#failed[@]} -gt 0 ]; then

@@ -63,3 +63,24 @@ def test_notebooks_import_the_library_of_this_checkout(tmp_path: Path) -> None:
     env = _fake(tmp_path, f"cd notebooks && {sys.executable} -c 'import lib.paths; print(lib.paths.ROOT)' >> {roots}\n")
     subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "r")], cwd=ROOT, env=env, capture_output=True, text=True)
     assert set(roots.read_text().split()) == {str(ROOT.resolve())}
+
+
+def test_a_parameter_folder_gives_each_notebook_its_own_file_after_the_common_one(tmp_path: Path) -> None:
+    """``--params DIR``: all.yaml for every notebook, then NN_name.yaml for that notebook only (overriding it, as
+    papermill applies later -f files over earlier ones); a notebook without its own file gets all.yaml alone."""
+    calls = tmp_path / "calls"
+    calls.mkdir()
+    # logs each call's arguments into a file named after the input notebook
+    env = _fake(tmp_path, f"printf '%s\\n' \"$@\" > {calls}/$(basename \"$7\" .ipynb)\n")
+    study = tmp_path / "study"
+    study.mkdir()
+    (study / "all.yaml").write_text("seed: 3\n")
+    (study / "07_pso_codesign.yaml").write_text("n_grid: 5\n")
+    run = subprocess.run(["bash", str(ROOT / "scripts" / "run_notebooks.sh"), "--params", "study", "--out", "runs/s"],
+                         cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    for nb in sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")):
+        args = (calls / nb.stem).read_text().split("\n")
+        files = [args[i + 1] for i, a in enumerate(args) if a == "-f"]
+        own = [str(study / f"{nb.stem}.yaml")] if nb.stem == "07_pso_codesign" else []
+        assert files == [str(study / "all.yaml"), *own]
