@@ -23,6 +23,7 @@ def test_objective_grid_keeps_penalised_points_off_the_curve():
     marks = [line for line in ax_f.get_lines() if line.get_label().startswith("penalised")]
     assert len(marks) == 1 and np.allclose(marks[0].get_xdata(), [1.8])
     assert ax_f.get_ylim()[1] < 2.0
+    assert "their $f^n$ is 10.3" in marks[0].get_label()  # the legend gives the value the mark does not show
 
 
 def _history(n_it=3, n_p=4):
