@@ -145,8 +145,8 @@ def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, titl
     if not valid.all():
         top = np.nanmax(f[valid]) * 1.05 if valid.any() else np.nanmax(f)
         axes[0].plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False,
-                     label=f"penalised (failed or $J_c > {jc_limit:g}$), drawn at the top: their $f^n$ is {np.nanmin(f[~valid]):.3g}"
-                     + (f"-{np.nanmax(f[~valid]):.3g}" if np.sum(~valid) > 1 else ""))
+                     label=f"penalised (failed or $J_c > {jc_limit:g}$),\ndrawn at the top: their $f^n$ is {np.nanmin(f[~valid]):.4g}"
+                     + (f"-{np.nanmax(f[~valid]):.4g}" if np.sum(~valid) > 1 else ""))
     axes[1].plot(h, np.where(valid, j_c, np.nan), "C3.-", label="dense grid")
     axes[1].axhline(0.9, color="k", ls=":", label="target 0.9")
     if best is not None and np.isfinite(float(best["J_c"])) and float(best["J_c"]) <= jc_limit:
