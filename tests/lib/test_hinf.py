@@ -272,3 +272,87 @@ def test_certified_norm_within_rtol_of_a_peak_the_start_bound_does_not_refine():
     res = hinf_norm(*sys_)
     assert res.certified and res.norm <= true * (1 + 1e-12) and true <= res.norm * (1 + 1e-7)
     assert abs(res.omega / (w_h * np.sqrt(1 - 2 * z_h**2)) - 1) < 1e-4
+
+
+# ------------------------------------------------------------------ pinning the surviving mutants (review of 2026-12-03, second)
+@pytest.mark.parametrize("k, d", [(100.0, 1.0), (1.0, 1e-2)])
+@pytest.mark.parametrize("hint", [1e-6, 1e6])
+def test_a_crossing_lost_near_dc_sends_the_search_to_the_open_ends(k, d, hint):
+    """A hint on the DC or on the high-frequency plateau of the band-pass ``d + k s / ((s + 1)(s + 2))`` puts the start bound
+    1e-9 to 5e-9 above ``d`` at a finite frequency, so the fallback grid is skipped. The Hamiltonian at
+    ``gamma = (1 + 1e-7) lb`` has crossings near 1e-5 and 2.3e5 rad/s; the one near 1e-5 is ill-conditioned
+    (R = gamma^2 - d^2 ~ 2e-7 d^2) and LAPACK loses it (in all four cases here). The single crossing left must send the
+    search to the open ends, where the peak ``d + k / 3`` at sqrt(2) rad/s is (closed form). Without that search the
+    result was the start bound (1.000000001 for 34.33), uncertified. Tolerances: rtol (1e-7) on the norm, the refinement's
+    1e-4 on the frequency of a flat peak (as test_well_damped_band_pass_is_not_underestimated)."""
+    sys_ = band_pass(k, d)
+    assert 0 < sigma_max(*sys_, hint)[0] / d - 1 < 1e-8  # the premise: the hint is the start bound, barely above DC
+    res = hinf_norm(*sys_, omega_hint=[hint])
+    assert res.certified and abs(res.norm / (d + k / 3) - 1) <= 1e-7 and abs(res.omega / np.sqrt(2) - 1) <= 1e-4
+
+
+def test_an_odd_crossing_count_does_not_certify(monkeypatch):
+    """Certified means a consistent Hamiltonian test, and crossings come in pairs (sigma_max < gamma at DC and at
+    infinity). A Hamiltonian that loses the crossings of a higher peak and reports one spurious candidate far above the band
+    (the failure of ill-conditioned Hamiltonians that the odd-count branch is for) cannot certify the start bound.
+
+    Observable only by injecting that failure (LAPACK produces odd counts through rounding, e.g. a spurious candidate
+    near w = 0 when the peak is at DC, which would make the test platform-dependent): ``_crossings`` is replaced by a
+    stand-in reporting the single candidate 1e12 rad/s. The system: a mode (w^2 / (s^2 + 2 zeta w s + w^2), zeta 1e-2
+    at 1000 rad/s, peak 1 / (2 zeta sqrt(1 - zeta^2)) = 50.0025) gives the start bound; the band-pass
+    300 s / ((s + 1)(s + 2)) peaks at 100 (closed form k / 3; well damped, so not in the start bound; 0.3 at 1000 rad/s).
+    The open-end search around 1e12 rad/s (1e4 to 1e20) cannot see the peak, so the result is the mode's 50.0025: a
+    certificate would claim ``||G|| <= (1 + 1e-7) 50.0025``."""
+    from scipy.linalg import block_diag
+
+    import lib.hinf
+
+    a1, b1, c1, _ = one_mode(1e-2, 1e3)
+    a2, b2, c2, _ = band_pass(300.0, 0.0)
+    sys_ = block_diag(a1, a2), block_diag(b1, b2), block_diag(1e6 * c1, c2), np.zeros((2, 2))
+    assert abs(hinf_norm(*sys_).norm / 100.0 - 1) <= 1e-9  # the premise: the band-pass is the norm
+    monkeypatch.setattr(lib.hinf, "_crossings", lambda sys, gamma: np.array([1e12]))
+    res = hinf_norm(*sys_)
+    assert abs(res.norm * 2e-2 * np.sqrt(1 - 1e-4) - 1) <= 1e-9  # the start bound, left as it is
+    assert not res.certified  # 100 > (1 + rtol) 50.0025: a certificate would be false
+
+
+@pytest.mark.parametrize("high", [True, False])
+@pytest.mark.parametrize("k, eps", [(1.0, 1e-3), (100.0, 1.0)])
+def test_start_bound_at_dc_or_infinity_is_replaced_by_the_band_peak(k, eps, high):
+    """Well-damped poles only: diag(k s / ((s + 1)(s + 2)), eps s / (s + 1)) has its largest start value at infinity
+    (eps; the DC gain is 0), diag(k s / ((s + 1)(s + 2)), eps / (s + 1)) at DC. The log grid over the poles' band must
+    replace that start bound by the band-pass peak k / 3 (closed form, at sqrt(2) rad/s), so that the first Hamiltonian
+    test certifies it (max_iter=1). Left at eps, the bound is raised by the first test but cannot be certified in it
+    (the final norm is the same with the default budget: the fallback's effect shows in the number of Hamiltonian
+    problems, hence max_iter=1). Tolerances: the norm is a refined maximum of a smooth peak (measured 4e-16 off)."""
+    a = np.diag([-1.0, -2.0, -1.0])
+    b = np.array([[1.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    c = np.array([[-k, 2 * k, 0.0], [0.0, 0.0, -eps if high else eps]])
+    d = np.array([[0.0, 0.0], [0.0, eps if high else 0.0]])
+    dc, inf = sigma_max(a, b, c, d, [0.0, np.inf])
+    assert (dc, inf) == ((0.0, eps) if high else (eps, 0.0))  # the premise: where the start bound is
+    res = hinf_norm(a, b, c, d, max_iter=1)
+    assert res.certified and abs(res.norm / (k / 3) - 1) <= 1e-12 and abs(res.omega / np.sqrt(2) - 1) <= 1e-4
+
+
+def test_small_feedthrough_mimo_start_bound_at_infinity_against_ab13dd():
+    """Well-damped MIMO system (real poles over 1e-3..1e3 rad/s, peak 10.6 at 0.03 rad/s) whose dynamics have zero DC
+    gain, with a feedthrough of 3.2e-10: the start bound is the high-frequency gain (1.4e-5 above the DC gain). Left
+    there, the Hamiltonian at gamma ~ 3.2e-10 is so ill-conditioned that its crossing near w = 0 is lost and spurious
+    pairs in the tail (1e9 rad/s and up) raise the bound by a factor 1.4 per test: 30 tests, uncertified (measured; how
+    far it gets depends on rounding). The fallback grid gives the peak and one test certifies it. Reference: AB13DD, the
+    same tolerance as the random MIMO cases (1e-6)."""
+    rng = np.random.default_rng(15)
+    n, m, p = (int(rng.integers(2, 7)), int(rng.integers(1, 3)), int(rng.integers(1, 3)))
+    a, b = np.diag(-np.exp(rng.uniform(np.log(1e-3), np.log(1e3), n))), rng.normal(size=(n, m))
+    c = rng.normal(size=(p, n)) * np.exp(rng.uniform(-3, 3, n))
+    g0 = c @ np.linalg.solve(a, b)
+    assert rng.uniform() < 0.5
+    c -= g0 @ np.linalg.pinv(np.linalg.solve(a, b))  # zero DC gain of the dynamics
+    d = rng.normal(size=(p, m)) * 10 ** rng.uniform(-15, 0)
+    sys_ = a, b, c, d
+    dc, inf = sigma_max(*sys_, [0.0, np.inf])
+    assert 3e-10 < dc < inf < 4e-10  # the premise: the start bound at infinity (G(0) = D - C A^-1 B ~ D), far below the peak
+    res, (gpeak, _) = hinf_norm(*sys_), ab13dd(*sys_)
+    assert res.certified and abs(res.norm / gpeak - 1) <= 1e-6

@@ -399,3 +399,35 @@ def test_a_weakly_but_really_coupled_mode_is_moved():
     weak = mu[np.argmin(np.abs(mu - 1j * w[0]))]
     assert np.min(np.abs(dense - weak)) > 1e-12 * abs(weak)  # the premise: the gain moves the weak mode
     assert ml.fallbacks == 0 and _matched_error(lam, dense) < 1e-13
+
+
+# ------------------------------------------------------------------ pinning the surviving mutants (review of 2026-12-03, second)
+def test_a_root_found_twice_from_a_warm_start_falls_back_to_eig():
+    """Two closed-loop poles 1.5e-8 apart (modes 1e-8 apart, gain 1e-9): a warm start with both approximations 3e-12 from
+    the same one of them (and their conjugates) converges, as the iteration reports, to that root twice: the two copies
+    swap places at each sweep, and the stagnation test (corrections below 1e-11 and no longer decreasing) stops them
+    6e-12 apart, within the accuracy the iteration allows. The other root is missed by 1.5e-8 relative; the power sums
+    differ by 4e-12 and 4e-11 (relative), below their tolerance of 1e-9, so only the distance check (1e-10) sees it:
+    the poles returned must be LAPACK's (to 1e-12, against the 1.5e-8 of the set with the root twice). The warm start
+    is set through ``_last``, the previous gain's poles, which is how :meth:`ModalLoop.poles` starts."""
+    rng = np.random.default_rng(23)
+    plant = _synthetic_plant(rng, close_pair=True)
+    ml = ModalLoop.of(plant)
+    k = 1e-9 * rng.normal(size=(4, 8))
+    lam = ml.poles(k)
+    dense = plant.closed_loop_poles(k)
+    assert ml.fallbacks == 0 and _matched_error(lam, dense) < 1e-12
+    upper = np.flatnonzero(lam.imag > 0)
+    a, b = upper[np.argsort(lam[upper].imag)[:2]]
+    assert abs(lam[a] - lam[b]) > 1e-8 * abs(lam[a])  # the premise: two distinct close roots
+    start = lam.copy()
+    ca, cb = (int(np.argmin(np.abs(lam - np.conj(lam[i])))) for i in (a, b))
+    start[a], start[b] = lam[a] * (1 + 3e-12), lam[a] * (1 - 3e-12)
+    start[ca], start[cb] = np.conj(start[a]), np.conj(start[b])
+    assert ml.coupled.all()
+    twice, _, converged = aberth_poles(ml.mu, ml.m_yv, k, start)
+    assert converged and _matched_error(twice, dense) > 1e-9  # the premise: reported converged, one root twice
+    assert ml._checks_pass(k, twice) is False
+    ml._last = start
+    got = ml.poles(k)
+    assert ml.fallbacks == 1 and _matched_error(got, dense) < 1e-12
