@@ -216,3 +216,53 @@ def test_second_lower_bound_pass_finds_the_ridge_at_the_upper_bounds_frequency(m
     assert b.upper >= b.lower and b.gap < 0.05
     a_delta = plant.a + b.deltas["M_SC"] * np.outer(plant.b[:, 0], plant.c[0])  # w = delta z closed
     assert sigma_max(a_delta, plant.b[:, 1:3], plant.c[1:3], np.zeros((2, 2)), b.omega_lower)[0] >= b.lower * (1 - 1e-9)
+
+
+# ---- a worst case that moves a resonance off the nominal grid (found by the review of 2026-12-03, second)
+@pytest.mark.parametrize("w0, zeta, alpha", [(1.0, 1e-3, -0.2), (2.0, 1e-3, 0.2), (10.0, 1e-4, 0.2)])
+def test_bounds_bracket_a_worst_case_that_moves_the_resonance_off_the_nominal_grid(monkeypatch, w0, zeta, alpha):
+    """One mode whose stiffness Delta moves by +-20 % (damping coefficient c = 2 zeta w0 fixed): the worst case is the
+    corner with the lowest stiffness, peak w0^2 / (c sqrt(k_min - c^2 / 4)) (closed form) at a resonance 10.6 % below the
+    nominal one, between the log points of the default grid. Before the fix both bounds stopped 5-9 % below it (gap
+    0): the grid followed the nominal poles only, so neither the corner samples nor the upper bound saw the shifted
+    resonance. The grid now holds the lightly damped poles at every corner of the box. Tolerances: the lower bound is
+    achieved (<= exact) and its local search refines the peak to 1e-6; the upper bound must not fall below it."""
+    plant = _modes_plant([(w0, zeta, 1.0)], [], alpha=alpha)
+    c = 2 * zeta * w0
+    exact = w0 ** 2 * _peak(w0 ** 2 * (1 - abs(alpha)), c)
+    b = _bounds(monkeypatch, plant)
+    assert b.lower <= exact * (1 + 1e-9)
+    assert b.lower >= exact * (1 - 1e-6)
+    assert b.upper >= exact * (1 - 1e-6)
+    assert b.deltas["M_SC"] == pytest.approx(np.sign(-alpha), abs=1e-3)
+
+
+def test_bounds_bracket_random_one_mode_worst_cases(monkeypatch):
+    """Ten random one-mode problems (frequency 0.3-100 rad/s, damping 1e-4 to 1e-2, stiffness moved by up to +-40 %): the
+    worst case is the corner with the lowest stiffness (the peak falls as the stiffness rises, closed form); the lower
+    bound reaches it to 1e-6 and the upper bound is not below it. Before the corner poles were on the grid, 17 of 60
+    such random problems (one to three modes) had both bounds below a brute-force search, by up to 13 %."""
+    rng = np.random.default_rng(2026)
+    for _ in range(10):
+        w0, zeta, alpha = 10 ** rng.uniform(-0.5, 2), 10 ** rng.uniform(-4, -2), rng.uniform(0.05, 0.4) * rng.choice([-1, 1])
+        plant = _modes_plant([(w0, zeta, 1.0)], [], alpha=alpha)
+        exact = w0 ** 2 * _peak(w0 ** 2 * (1 - abs(alpha)), 2 * zeta * w0)
+        b = _bounds(monkeypatch, plant)
+        assert exact * (1 - 1e-6) <= b.lower <= exact * (1 + 1e-9) and b.upper >= exact * (1 - 1e-6), (w0, zeta, alpha)
+
+
+@pytest.mark.xfail(strict=True, reason="known limitation: an interior worst case where Delta moves one mode onto another "
+                   "(coalescence) is missed by both bounds; the upper bound is a maximum over the evaluated frequencies only")
+def test_known_limitation_two_modes_brought_together_by_an_interior_delta(monkeypatch):
+    """Two modes on one output, 7.48 and 7.00 rad/s (damping 1.1e-4 and 4.6e-4); Delta moves the first one's stiffness
+    by -15.7 % ... +15.7 %. At delta = 0.78 it falls onto the second mode and the peaks add: exact H-infinity norm 4321
+    (Hamiltonian method, brute force over 201 deltas), 12 % above the corners' 3852, which both bounds report (measured
+    2026-12-03; one case in 120 random two- and three-mode problems)."""
+    from lib.hinf import hinf_norm
+
+    plant = _modes_plant([(7.4814231501324615, 0.00011353198378048266, 0.8028104869398454),
+                          (7.0041958791399255, 0.00045652380990309643, 0.8307429627427234)], [], alpha=-0.15744413656668402)
+    brute = max(hinf_norm(plant.a + dl * np.outer(plant.b[:, 0], plant.c[0]), plant.b[:, 1:2], plant.c[1:2],
+                          plant.d[1:2, 1:2]).norm for dl in np.linspace(0.7, 0.86, 17))
+    assert brute > 4300.0
+    assert _bounds(monkeypatch, plant).upper >= brute * (1 - 1e-6)
