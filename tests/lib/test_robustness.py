@@ -266,3 +266,59 @@ def test_known_limitation_two_modes_brought_together_by_an_interior_delta(monkey
                           plant.d[1:2, 1:2]).norm for dl in np.linspace(0.7, 0.86, 17))
     assert brute > 4300.0
     assert _bounds(monkeypatch, plant).upper >= brute * (1 - 1e-6)
+
+
+@pytest.mark.parametrize("case", ["heavily damped pole nearby", "lighter pole nearby"])
+def test_a_corner_pole_near_a_nominal_pole_that_does_not_resolve_it_stays_on_the_grid(monkeypatch, case):
+    """The worst corner of the one-mode problem above (w0 = 1, zeta = 1e-3, alpha = -0.2: exact 559.02) with, on the other
+    output, a mode within the corner resonance's half-power half-width: heavily damped (zeta 0.5, never on the grid), or
+    lighter (zeta 1e-5, whose own half-power points do not reach the corner peak; two untouched modes, peak 480, take the
+    local searches). A first filter dropped such corner poles by their distance to the nominal *poles*: both bounds then
+    stopped 8.9 % and 10.4 % below the exact value (gap 0; found by a review of the change). The filter now measures the
+    distance to the grid's *points* (0.1 of the half-width: read at 0.995 of the peak or more)."""
+    wd_c, sig = np.sqrt(0.8 - 1e-6), 1e-3  # the worst corner's damped frequency and |Re lambda|
+    exact = _peak(0.8, 2e-3)
+    if case == "heavily damped pole nearby":
+        other = [((wd_c + 0.5 * sig) / np.sqrt(0.75), 0.5, 1e-3)]
+    else:
+        zb = 1e-5
+        other = [((wd_c - 0.95 * sig) / np.sqrt(1 - zb ** 2), zb, 100 * 2 * zb), (5.0, 1e-3, 480 * 2e-3), (20.0, 1e-3, 480 * 2e-3)]
+    b = _bounds(monkeypatch, _modes_plant([(1.0, 1e-3, 1.0)], other, alpha=-0.2))
+    assert exact * (1 - 1e-6) <= b.lower <= exact * (1 + 1e-9) and b.upper >= exact * (1 - 1e-6)
+
+
+def test_corner_poles_refuse_an_ill_posed_corner():
+    """I - D_ww Delta singular at a corner (D_ww = 1, Delta = 1): a ValueError naming the corner, not a LinAlgError."""
+    a, b, c, d = -np.eye(2), np.ones((2, 2)), np.ones((2, 2)), np.zeros((2, 2))
+    d[0, 0] = 1.0
+    with pytest.raises(ValueError, match="ill-posed at the corner"):
+        robustness._corner_poles(a, b, c, d, [("M_SC", 1)], np.geomspace(0.1, 10, 5))
+    assert robustness._corner_poles(a, b, c, d, [], np.geomspace(0.1, 10, 5)).size == 0
+
+
+@pytest.mark.xfail(strict=True, reason="known limitation: an interior worst case (here the damping is lowest at delta = 0.5) "
+                   "lies at a frequency neither the nominal nor the corner poles put on the grid")
+def test_known_limitation_an_interior_delta_that_minimises_the_damping(monkeypatch):
+    """One mode, one parameter as a twice-repeated block: stiffness w0^2 (1 + alpha delta), damping coefficient
+    c0 (1 - g delta + g delta^2), lowest at delta = 0.5 (found by the review of 2026-12-03). Exact worst case by a brute
+    force over 202 deltas (Hamiltonian norm): 6677.5; both bounds were 5841.9 (-12.5 %, gap 0)."""
+    from lib.closedloop import GeneralizedPlant
+    from lib.hinf import hinf_norm
+
+    w0, z0, alpha, g = 3.0, 1e-4, 0.3, 1.2
+    c0 = 2 * z0 * w0
+    a = np.array([[0.0, 1.0], [-w0 ** 2, -c0]])
+    b, c, d = np.zeros((2, 8)), np.zeros((16, 2)), np.zeros((16, 8))
+    b[1, 0], b[1, 1], b[1, 2] = c0 * g, -c0 * g, 1.0
+    c[0, 1], c[1, 0], d[1, 0], c[2, 0] = 1.0, alpha * w0 ** 2 / (c0 * g), 1.0, w0 ** 2
+    plant = GeneralizedPlant(a, b, c, d, n_delta=2, rigid_rank=0)
+
+    def closed(x):
+        return np.array([[0.0, 1.0], [-w0 ** 2 * (1 + alpha * x), -c0 * (1 - g * x + g * x ** 2)]])
+
+    exact = max(hinf_norm(closed(x), b[:, 2:3], c[2:3], np.zeros((1, 1))).norm for x in np.r_[np.linspace(-1, 1, 201), 0.5])
+    assert exact > 6600.0
+    monkeypatch.setattr(robustness, "plant_at", lambda *args, **kw: plant)
+    model = type("Model", (), {"blocks": ["M_SC", "M_SC"]})()
+    upper = robustness.bounds_at_angle(model, 0.0, np.zeros((4, 8)), np.eye(3), ST, groups=("rpe",))["rpe"].upper
+    assert upper >= exact * (1 - 1e-6)
