@@ -210,8 +210,8 @@ def bounds_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: A
     sl = plant.slices()
     out = {}
     with threadpool_limits(1):
-        resps = {group: ModalResponse(a, b, c[rows], d[rows])
-                 for group in groups for rows in [list(range(plant.n_delta)) + list(range(plant.n_reg))[sl[group]]]}
+        rows = {group: list(range(plant.n_delta)) + list(range(plant.n_reg))[sl[group]] for group in groups}  # Delta, then the group
+        resps = {group: ModalResponse(a, b, c[rows[group]], d[rows[group]]) for group in groups}
         nominal_grid = _grid(resps[groups[0]].lam, omega_range, n_log)  # the same closed loop (a) for every group
         # and the corner poles that grid does not resolve, with their half-power points
         grid = np.unique(np.r_[nominal_grid, _grid(_corner_poles(a, b, c, d, structure, nominal_grid), omega_range, 0)])
