@@ -28,7 +28,7 @@ from threadpoolctl import threadpool_limits
 from .checks import check_panel_angles
 from .closedloop import LoopSettings
 from .lft import LFT, block_runs
-from .mu import wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
+from .mu import _MAX_COND, _box_corners, wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
 from .results import read_keyed, write_json
 from .synthesis import Scenario, plant_at
 
@@ -140,10 +140,10 @@ def _corner_poles(a: NDArray, b: NDArray, c: NDArray, d: NDArray, structure: Seq
         return np.zeros(0, complex)
     points = np.r_[-np.inf, np.sort(grid), np.inf]  # padded: every pole has a grid neighbour on each side
     out = []
-    for signs in np.array(np.meshgrid(*[[-1.0, 1.0]] * len(sizes))).T.reshape(-1, len(sizes)):
+    for signs in _box_corners(len(sizes)):
         delta = np.diag(np.repeat(signs, sizes))
         ret = np.eye(nd) - d[:nd, :nd] @ delta
-        if np.linalg.cond(ret) > 1e12:
+        if np.linalg.cond(ret) > _MAX_COND:  # lib.mu's threshold of ill-posedness
             raise ValueError(f"the Delta loop is ill-posed at the corner {signs.tolist()} (I - D_ww Delta singular)")
         # x' = (a + b_w Delta (I - d_ww Delta)^-1 c_z) x: the Delta channels closed (w = Delta z)
         lam = np.linalg.eigvals(a + b[:, :nd] @ delta @ np.linalg.solve(ret, c[:nd]))

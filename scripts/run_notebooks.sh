@@ -14,7 +14,7 @@
 # different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
 set -euo pipefail
 PY="${PYTHON:-python3}"
-usage="use --out DIR, --params FILE.yaml, --no-install"
+usage="use --out DIR, --params FILE.yaml|DIR, --no-install"
 out="" params=""
 while [ $# -gt 0 ]; do
   case "$1" in
