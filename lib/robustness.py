@@ -42,9 +42,12 @@ from .mu import _MAX_COND, LowerBound, _box_corners, lft_upper, wc_gain_lower, w
 from .results import read_keyed, write_json
 from .synthesis import Scenario, plant_at
 
-__all__ = ["KEEP", "ModalResponse", "AngleBounds", "bounds_at_angle", "physical_deltas", "sweep"]
+__all__ = ["KEEP", "METHOD", "ModalResponse", "AngleBounds", "bounds_at_angle", "physical_deltas", "sweep"]
 
 KEEP = ("Iyy_SC", "M_SC", "omega1_SP")  # the parameters of Delta_p, in the grouped channel order
+# how bounds_at_angle computes its bounds; part of the key of a sweep's partial file, so that a sweep never resumes from
+# angles bounded by an earlier method (change it with the method)
+METHOD = "grid with corner poles; lower bound in three passes (grid, around the upper bound's frequency, ridge)"
 
 
 class ModalResponse:
@@ -391,9 +394,10 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
         Wraps the iterable of finished angles (e.g. a tqdm progress bar with ``total=len(thetas)``).
     partial : path, optional
         JSON file where each finished angle is saved at once, so that an interrupted sweep loses only the angles under
-        way: a sweep with the same gain, inertia, settings, options (defaults included) and ``partial_key`` takes the
-        angles it holds from it. Removed once every angle is done. The key does not follow changes of the library's
-        code: delete a partial file left by an interrupted sweep before rerunning it with another version.
+        way: a sweep with the same gain, inertia, settings, options (defaults included), :data:`METHOD` and
+        ``partial_key`` takes the angles it holds from it. Removed once every angle is done. The key follows the method
+        by :data:`METHOD` only, not every change of the library's code: after an update that changes the bounds without
+        changing it, delete a partial file left by an interrupted sweep before rerunning.
     partial_key : dict
         What identifies ``model_low`` (e.g. h and the spacecraft parameters); required with ``partial``.
     **options
@@ -415,7 +419,7 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     bound = signature(bounds_at_angle).bind_partial(**options)
     bound.apply_defaults()
     key = dict(model=partial_key, gain=gain.tolist(), inertia=np.asarray(inertia_p1, dtype=float).tolist(), settings=settings.__dict__,
-               options=dict(bound.arguments))  # the options given and the defaults of the others
+               options=dict(bound.arguments), method=METHOD)  # the options given and the defaults of the others
     stored, key = read_keyed(partial, key)
     records = stored["records"] if stored else {}
     tags = [repr(float(th)) for th in angles]

@@ -99,6 +99,17 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
         assert isinstance(got["rpe"].omegas, np.ndarray) and isinstance(got["rpe"].betas, np.ndarray)
         np.testing.assert_array_equal(got["rpe"].omegas, want.omegas)
         np.testing.assert_array_equal(got["rpe"].betas, want.betas)
+    monkeypatch.setattr(robustness, "METHOD", "an earlier method")  # its partial file is not reused by the current one
+    fail["at"] = 90.0
+    with pytest.raises(ValueError, match="injected"):
+        run()
+    monkeypatch.undo()
+    monkeypatch.setattr(robustness, "bounds_at_angle", _fake_bounds(calls, fail))
+    calls.clear()
+    with pytest.raises(ValueError, match="injected"):
+        run()
+    assert calls == pytest.approx([0.0, 45.0, 90.0])
+    part.unlink()
     for other in (dict(gain=2 * np.ones((4, 8))), dict(key={"h": 0.03})):
         fail["at"] = 90.0
         with pytest.raises(ValueError, match="injected"):
