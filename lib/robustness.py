@@ -17,9 +17,10 @@ the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexi
   frequency following the closed-loop pole the parameters move (:func:`_ridge_lower`: interior worst cases, e.g. a
   parameter value inside the box that minimises a damping).
 
-Nothing is certified between the frequencies evaluated: an interior worst case that none of the passes reaches (one
-known case: a parameter that brings one lightly damped mode onto another, within a sliver of the box) is missed by
-both bounds (``tests/lib/test_robustness.py``, a strict xfail test).
+Nothing is certified between the frequencies evaluated: an interior worst case that none of the passes reaches is
+missed by both bounds. Known cases: a parameter that brings one lightly damped mode onto another, within a sliver of
+the box (``tests/lib/test_robustness.py``, a strict xfail test); a damping minimised inside the box on a mode other
+than the best point's (:func:`_ridge_lower`).
 """
 
 from __future__ import annotations
