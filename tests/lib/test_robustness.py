@@ -99,12 +99,14 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
         assert isinstance(got["rpe"].omegas, np.ndarray) and isinstance(got["rpe"].betas, np.ndarray)
         np.testing.assert_array_equal(got["rpe"].omegas, want.omegas)
         np.testing.assert_array_equal(got["rpe"].betas, want.betas)
-    monkeypatch.setattr(robustness, "METHOD", "an earlier method")  # its partial file is not reused by the current one
+    method = robustness.METHOD
+    robustness.METHOD = "an earlier method"  # its partial file is not reused by the current one
     fail["at"] = 90.0
-    with pytest.raises(ValueError, match="injected"):
-        run()
-    monkeypatch.undo()
-    monkeypatch.setattr(robustness, "bounds_at_angle", _fake_bounds(calls, fail))
+    try:
+        with pytest.raises(ValueError, match="injected"):
+            run()
+    finally:
+        robustness.METHOD = method
     calls.clear()
     with pytest.raises(ValueError, match="injected"):
         run()
@@ -333,11 +335,17 @@ def _damping_minimised_worst(w0=3.0, z0=1e-4, alpha=0.3, g=1.2):
     from scipy.optimize import minimize_scalar
 
     def peak(x):
-        k, c = w0 ** 2 * (1 + alpha * x), 2 * z0 * w0 * (1 - g * x + g * x ** 2)
-        return w0 ** 2 / (c * np.sqrt(k - c ** 2 / 4))
+        return w0 ** 2 * _peak(w0 ** 2 * (1 + alpha * x), 2 * z0 * w0 * (1 - g * x + g * x ** 2))
 
     res = minimize_scalar(lambda x: -peak(x), bounds=(-1.0, 1.0), method="bounded", options={"xatol": 1e-12})
     return float(res.x), peak(res.x)
+
+
+def _damping_response():
+    """The plant above with K = 0 as a ModalResponse: its two Delta channels, then p~_1 -> RPE_1."""
+    plant, closed = _damping_minimised_inside()
+    a, b, c, d = plant.closed_loop(np.zeros((4, 8)))
+    return robustness.ModalResponse(a, b[:, :3], c[[0, 1, 2]], d[[0, 1, 2]][:, :3]), closed
 
 
 def test_the_ridge_pass_finds_an_interior_delta_that_minimises_the_damping(monkeypatch):
@@ -366,10 +374,7 @@ def test_pole_near_and_peak_near_against_the_closed_form():
     det(I - M11(s) Delta) reaches from the nominal one is the eigenvalue of the closed state matrix (to 1e-10), and the
     peak near it is the closed form 1 / (c sqrt(k - c^2/4)) (times the output's w0^2) at sqrt(k - c^2/2) (to 1e-9).
     At Delta = 0 it stays on the nominal pole."""
-    plant, closed = _damping_minimised_inside()
-    a, b, c, d = plant.closed_loop(np.zeros((4, 8)))
-    rows = [0, 1, 2]  # the two Delta channels, then RPE_1
-    resp = robustness.ModalResponse(a, b[:, :3], c[rows], d[rows][:, :3])
+    resp, closed = _damping_response()
     nominal = complex(resp.lam[resp.lam.imag > 0][0])
     for x in (-1.0, 0.5, 1.0):
         lam = np.linalg.eigvals(closed(x))
@@ -377,24 +382,20 @@ def test_pole_near_and_peak_near_against_the_closed_form():
         assert abs(pole - lam[lam.imag > 0][0]) <= 1e-10 * abs(pole)
         k, cc = 9.0 * (1 + 0.3 * x), 6e-4 * (1 - 1.2 * x + 1.2 * x ** 2)
         gain, w, _ = robustness._peak_near(resp, [2], np.array([x]), pole)
-        assert gain == pytest.approx(9.0 / (cc * np.sqrt(k - cc ** 2 / 4)), rel=1e-9)
+        assert gain == pytest.approx(9.0 * _peak(k, cc), rel=1e-9)
         assert w == pytest.approx(np.sqrt(k - cc ** 2 / 2), rel=1e-6)
     assert abs(robustness._pole_near(resp, [2], np.array([0.0]), 3.0j) - nominal) <= 1e-12 * abs(nominal)
 
 
 def test_ridge_pass_returns_an_achieved_gain_never_below_its_start():
     """From the corner delta = 1 of that plant (a lower bound 5842), the ridge pass reaches the interior worst case
-    (closed form, to 1e-6); what it returns is achieved (F_u at its delta and frequency), and from a start already at the worst case it
-    returns the start unchanged or better."""
+    (closed form, to 1e-6); what it returns is achieved (F_u at its delta and frequency), and from a start already at the
+    worst case it returns the start unchanged or better."""
     from lib.mu import LowerBound
 
-    plant, closed = _damping_minimised_inside()
-    a, b, c, d = plant.closed_loop(np.zeros((4, 8)))
-    rows = [0, 1, 2]
-    resp = robustness.ModalResponse(a, b[:, :3], c[rows], d[rows][:, :3])
+    resp, _ = _damping_response()
     k, cc = 9.0 * 1.3, 6e-4
-    w1 = np.sqrt(k - cc ** 2 / 2)
-    start = LowerBound(9.0 / (cc * np.sqrt(k - cc ** 2 / 4)), w1, np.array([1.0]), 0)
+    start = LowerBound(9.0 * _peak(k, cc), np.sqrt(k - cc ** 2 / 2), np.array([1.0]), 0)
     out = robustness._ridge_lower(resp, [2], start)
     x_worst, exact = _damping_minimised_worst()
     assert exact * (1 - 1e-6) <= out.gain <= exact * (1 + 1e-9) and out.deltas[0] == pytest.approx(x_worst, abs=2e-3)
