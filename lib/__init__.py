@@ -7,7 +7,11 @@ h-parametrised LFT beam), ``mechanisms`` (L-chain, triangle, square), ``cube``, 
 ``lft`` (uncertain/tunable parameters and LFT algebra), ``reduction`` (spurious slow poles,
 modal reduction), ``modal`` (participation factors, models from modal data), ``assembly``
 (direct constrained assembly), ``frame_fe`` and ``opensees_fe`` (finite-element references),
-``timedomain`` (worst-case sinusoid from rest), ``paths``, ``plotting``, ``results``.
+``closedloop`` (the pointing study's generalized plant), ``hinf`` (exact H-infinity norms), ``mu`` and
+``mu_interval`` (worst-case gain bounds, pointwise and certified over frequency intervals), ``synthesis`` and
+``modalloop`` (robust structured synthesis of the PMA gain), ``design``, ``robustness`` (mu sweep over the panel
+angle), ``pso`` and ``codesign`` (the particle-swarm co-design), ``timedomain`` (worst-case sinusoid from rest),
+``checks``, ``paths``, ``plotting``, ``results``.
 """
 
 __version__ = "0.1.0"

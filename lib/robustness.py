@@ -18,7 +18,9 @@ the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexi
   parameter value inside the box that minimises a damping).
 
 Nothing is certified between the frequencies evaluated: an interior worst case that none of the passes reaches is
-missed by both bounds. Known cases: a parameter that brings one lightly damped mode onto another, within a sliver of
+missed by both bounds. :func:`certify_at_angle` closes that gap for the upper bound at one angle: it covers every
+frequency by intervals, each certified by one set of scalings (:mod:`lib.mu_interval`), at a cost of about a minute
+per transfer and angle on the spacecraft, so notebook 08 applies it at the critical angles. Known cases: a parameter that brings one lightly damped mode onto another, within a sliver of
 the box (``tests/lib/test_robustness.py``, a strict xfail test); a damping minimised inside the box on a mode other
 than the best point's (:func:`_ridge_lower`).
 """
@@ -39,8 +41,8 @@ from threadpoolctl import threadpool_limits
 from .checks import check_panel_angles
 from .closedloop import LoopSettings
 from .lft import LFT, block_runs
-from .mu_interval import CertifiedUpper, wc_gain_upper_certified
 from .mu import _MAX_COND, LowerBound, _box_corners, lft_upper, wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
+from .mu_interval import CertifiedUpper, wc_gain_upper_certified
 from .results import read_keyed, write_json
 from .synthesis import Scenario, plant_at
 
