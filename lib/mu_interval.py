@@ -57,6 +57,8 @@ class CertifiedUpper:
 
 
 def _check_state_space(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, n: int) -> tuple[NDArray, ...]:
+    if any(np.iscomplexobj(x) for x in (a, b, c, d)):
+        raise TypeError("(a, b, c, d) must be real: the certificate assumes a real state space (M(-jw) = conj(M(jw)))")
     a, b, c, d = (np.asarray(x, dtype=float) for x in (a, b, c, d))
     nx = a.shape[0] if a.ndim == 2 else -1
     if a.shape != (nx, nx) or b.ndim != 2 or c.ndim != 2 or b.shape[0] != nx or c.shape[1] != nx or d.shape != (c.shape[0], b.shape[1]):
@@ -101,7 +103,8 @@ def crossing_frequencies(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     ``B_Phi = [B; -C_w^T Pi D_w]``, ``C_Phi = [D_w^T Pi C_w, B^T]``, ``D_Phi = D_w^T Pi D_w`` (``C_w = [C; 0]``,
     ``D_w = [D; I]``); its zeros are the eigenvalues of ``A_Phi - B_Phi D_Phi^-1 C_Phi``, and the frequencies returned
     are the imaginary parts of those within ``_ON_AXIS`` of the axis (more candidates only shorten the certified
-    intervals). Raises if ``D_Phi = Phi(j infinity)`` is singular.
+    intervals; only ``Im lambda >= 0``: the spectrum is symmetric under ``lambda -> -conj(lambda)``, not under
+    ``lambda -> -lambda``). Raises if ``D_Phi = Phi(j infinity)`` is singular.
     """
     a, b, c, d = _check_state_space(a, b, c, d, n)
     nx, n_in = a.shape[0], b.shape[1]
@@ -114,7 +117,9 @@ def crossing_frequencies(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     b_phi = np.vstack([b, -cw.T @ pi @ dw])
     c_phi = np.hstack([dw.T @ pi @ cw, b.T])
     lam = np.linalg.eigvals(a_phi - b_phi @ np.linalg.solve(d_phi, c_phi))
-    return np.unique(np.abs(lam[_on_axis(lam)].imag))
+    # only s = jw with w >= 0: Phi(-jw) is not conj(Phi(jw)) when G is complex, so a zero at -jw is no crossing
+    keep = _on_axis(lam) & (lam.imag >= -_ON_AXIS * np.maximum(np.abs(lam), 1.0))
+    return np.unique(np.abs(lam[keep].imag))
 
 
 def _on_axis(lam: NDArray[np.complex128]) -> NDArray[np.bool_]:
@@ -198,8 +203,11 @@ def certified_interval(a: NDArray, b: NDArray, c: NDArray, d: NDArray, sizes: tu
         return omega, omega
     n = sum(sizes)
     scale = gamma * left[n] * right[n]  # the level in the balanced coordinates (left[n] = c_e, right[n] = c_p)
-    cross = crossing_frequencies(a, b * right[None, :], left[:, None] * c, left[:, None] * d * right[None, :], n, dm, gm,
-                                 scale ** 2)
+    try:
+        cross = crossing_frequencies(a, b * right[None, :], left[:, None] * c, left[:, None] * d * right[None, :], n, dm,
+                                     gm, scale ** 2)
+    except ValueError:  # Phi(j infinity) singular for these scalings: nothing certified from this point
+        return omega, omega
     below, above = cross[cross < omega], cross[cross > omega]
     return (float(below.max()) if below.size else 0.0), (float(above.min()) if above.size else np.inf)
 
@@ -244,8 +252,8 @@ def wc_gain_upper_certified(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLi
         Each interval is certified at ``(1 + slack)`` times the largest pointwise bound so far: more slack, wider
         intervals and fewer points, a looser bound.
     max_points : int
-        At most this many points (LMI solves and crossing computations, each ``O((2 n_x)^3)``); if the range is not
-        covered then, ``covered`` is False and ``gaps`` says where.
+        At most this many points (LMI solves and crossing computations, each ``O((2 n_x)^3)``), or the starting points
+        if there are more; if the range is not covered then, ``covered`` is False and ``gaps`` says where.
 
     Returns
     -------

@@ -85,6 +85,9 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
          mu("p~ -> W~u", table), "08"),
+        ("Upper bound certified over all frequencies at the critical panel angle (section 4b): RPE / effort", "-",
+         " / ".join(f"{c['certified_upper']:.4f} ({c['theta_deg']:.0f} deg, {'covered' if c['covered'] else 'NOT covered'}, "
+                    f"{c['points']} points)" for c in (r8["certification"]["rpe"], r8["certification"]["effort"])), "08"),
         ("Those worst cases in time: SADM torques of 2-norm p_max at the critical frequency, from rest: largest steady "
          "RPE / PMA force (bound), envelope time constants", "-",
          f"{max(td['rpe']['steady_amplitudes']):.2f} µrad ({1e6 * st['eps_max']:g}) / "

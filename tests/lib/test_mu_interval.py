@@ -99,5 +99,7 @@ def test_bad_input():
         wc_gain_upper_certified(a, b, c, d, sizes, [5.0], omega_range=(0.0, 1.0))
     with pytest.raises(ValueError, match="max_points"):
         wc_gain_upper_certified(a, b, c, d, sizes, [1.0], max_points=0)
+    with pytest.raises(TypeError, match="must be real"):
+        wc_gain_upper_certified(a + 0j, b, c, d, sizes, [1.0])
     with pytest.raises(ValueError, match="Delta channels"):
         wc_gain_upper_certified(a, b[:, :3], c, d[:, :3], sizes, [1.0])
