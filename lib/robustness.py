@@ -18,11 +18,11 @@ the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexi
   parameter value inside the box that minimises a damping).
 
 Nothing is certified between the frequencies evaluated: an interior worst case that none of the passes reaches is
-missed by both bounds. :func:`certify_at_angle` closes that gap for the upper bound at one angle: it covers every
-frequency by intervals, each certified by one set of scalings (:mod:`lib.mu_interval`), at a cost of about two minutes
-per transfer and angle on the spacecraft, so notebook 08 applies it at the critical angles. Known cases: a parameter that brings one lightly damped mode onto another, within a sliver of
+missed by both bounds. Known cases: a parameter that brings one lightly damped mode onto another, within a sliver of
 the box (``tests/lib/test_robustness.py``, a strict xfail test); a damping minimised inside the box on a mode other
-than the best point's (:func:`_ridge_lower`).
+than the best point's (:func:`_ridge_lower`). :func:`certify_at_angle` closes that gap for the upper bound at one
+angle: it covers every frequency by intervals, each certified by one set of scalings (:mod:`lib.mu_interval`), at a
+cost of about two minutes per transfer and angle on the spacecraft, so notebook 08 applies it at the critical angles.
 """
 
 from __future__ import annotations
@@ -318,7 +318,9 @@ def certify_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: 
     """Upper bound of the worst-case gain of ``group`` at one panel angle ``theta`` [rad], certified over every
     frequency (:func:`lib.mu_interval.wc_gain_upper_certified`), not only at the frequencies of a grid as
     :func:`bounds_at_angle`'s. ``omegas`` [rad/s]: starting points (e.g. that grid's, ``AngleBounds.omegas``).
-    Each point costs an LMI and an eigenvalue problem of twice the loop's order (3.7 s at order 802 on one thread)."""
+    Each point costs an LMI and an eigenvalue problem of twice the loop's order (2-3 s at order 802 on one thread)."""
+    if group not in ("rpe", "effort"):
+        raise ValueError(f"group must be 'rpe' or 'effort', got {group!r}")
     a, b, c, d, rows, structure = _loop_at_angle(model_low, theta, gain, inertia_p1, settings, (group,))
     with threadpool_limits(1):
         return wc_gain_upper_certified(a, b, c[rows[group]], d[rows[group]], structure, omegas, slack=slack,

@@ -458,3 +458,5 @@ def test_certified_upper_bound_closes_the_coalescence_case(monkeypatch):
     print(f"\ncoalescence: grid upper {grid.upper:.1f}, brute force {brute:.1f}, certified {cert.gamma:.1f} "
           f"({len(cert.omegas)} points)")
     assert cert.covered and brute <= cert.gamma <= 1.1 * brute
+    with pytest.raises(ValueError, match="group must be"):
+        robustness.certify_at_angle(model, 0.0, np.zeros((4, 8)), np.eye(3), ST, "RPE", grid.omegas)
