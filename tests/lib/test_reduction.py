@@ -118,7 +118,9 @@ def test_split_slow_is_an_exact_decomposition_of_a_dense_realisation():
     g = ports.frequency_response(a, b, c, d, w)
     g_fast = ports.frequency_response(*split.fast, w)
     g_slow = ports.frequency_response(*split.slow, np.zeros_like(d), w)
-    assert np.abs(g_fast + g_slow - g).max() < 1e-9 * np.abs(g).max()
+    # exact to round-off, whose scale is eps cond(A) (1e8 here: poles from 1e-4 to 40 rad/s in a random basis); the
+    # dense reference itself is off by 4e-10 relative at DC, and the split by 1.5e-9 on one AMD EPYC machine
+    assert np.abs(g_fast + g_slow - g).max() < np.finfo(float).eps * np.linalg.cond(a) * np.abs(g).max()
     fa, fb, fc, fd = split.fast
     (ra, rb, rc, rd), n_high = reduction.residualize_above(fa, fb, fc, fd, 10.0)
     assert n_high == 2 and ra.shape[0] == 4 and np.abs(np.linalg.eigvals(ra)).max() < 10.0
