@@ -31,9 +31,9 @@ from lib.closedloop import LoopSettings  # noqa: E402
 ROOT = Path(__file__).parents[1]
 
 
-def _job(args: tuple) -> dict:
+def _job(args: tuple, models: design.DesignModels) -> dict:
     """Grid bounds and the certified bound of one transfer at one angle [deg]."""
-    models, gain, theta_deg, group, slack, opts = args
+    gain, theta_deg, group, slack, opts = args
     settings = LoopSettings.from_parameters()
     t0 = time.perf_counter()
     grid = robustness.bounds_at_angle(models.g_r_low, np.deg2rad(theta_deg), gain, models.inertia, settings, groups=(group,),
@@ -60,11 +60,12 @@ def main() -> None:
     jobs = []
     for group in ("rpe", "effort"):
         rows = sorted((r for r in res["sweep"] if r["group"] == group), key=lambda r: -r["upper"])[:args.top]
-        jobs += [(models, gain, float(r["theta_deg"]), group, args.slack, opts) for r in rows]
+        jobs += [(gain, float(r["theta_deg"]), group, args.slack, opts) for r in rows]
     t0 = time.perf_counter()
     client = codesign.local_client(args.workers)
     try:
-        out = client.gather(client.map(_job, jobs, pure=False))
+        # the models sent once per worker, not once per job (as lib.robustness.sweep does)
+        out = client.gather(client.map(_job, jobs, models=client.scatter(models, broadcast=True), pure=False))
     finally:
         codesign.close_client(client)
     wall = time.perf_counter() - t0
