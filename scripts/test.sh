@@ -21,4 +21,7 @@ for nb in notebooks/[0-9][0-9]_*.ipynb; do
   if [ -f "tests/smoke/$name.yaml" ]; then args=(-f "tests/smoke/$name.yaml"); fi
   "$PY" -m papermill --log-level WARNING --prepare-only "$nb" "build/smoke/$name.ipynb" "${args[@]}"
 done
-"$PY" -m pytest tests build/smoke --nbval-lax --nbval-current-env -p no:cacheprovider "$@"
+# Two pytest-xdist workers (TEST_WORKERS; 0: one process): each test module and each notebook stays on one worker,
+# and notebooks 07 and 08 (08 reads what 07 stores) run first, in order, on one worker (tests/conftest.py)
+"$PY" -m pytest tests build/smoke --nbval-lax --nbval-current-env -p no:cacheprovider \
+  -n "${TEST_WORKERS:-2}" --dist loadgroup --no-loadscope-reorder "$@"

@@ -84,3 +84,31 @@ def test_a_parameter_folder_gives_each_notebook_its_own_file_after_the_common_on
         files = [args[i + 1] for i, a in enumerate(args) if a == "-f"]
         own = [str(study / f"{nb.stem}.yaml")] if nb.stem == "07_pso_codesign" else []
         assert files == [str(study / "all.yaml"), *own]
+
+
+def _notebook(path: Path, source: str) -> None:
+    import nbformat
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell(source)]
+    nbformat.write(nb, path)
+
+
+def test_notebooks_07_and_08_run_on_one_worker_in_order(tmp_path: Path) -> None:
+    """The test command runs on 2 pytest-xdist workers: notebook 08, which reads what notebook 07 stores, must run after
+    07 on the same worker, whatever else is queued (tests/conftest.py groups them). Here 07 waits 3 s before it writes
+    its worker's name, and 08 fails unless it finds that file with its own worker's name: on separate workers, 08 would
+    start while 07 waits."""
+    import shutil
+    import sys
+
+    shutil.copy(ROOT / "tests" / "conftest.py", tmp_path / "conftest.py")
+    mark = tmp_path / "written_by"
+    _notebook(tmp_path / "01_other.ipynb", "x = 1")
+    _notebook(tmp_path / "07_writes.ipynb", f"import os, time\ntime.sleep(3)\nopen({str(mark)!r}, 'w').write(os.environ['PYTEST_XDIST_WORKER'])")
+    _notebook(tmp_path / "08_reads.ipynb", f"import os\nassert open({str(mark)!r}).read() == os.environ['PYTEST_XDIST_WORKER']")
+    _notebook(tmp_path / "02_other.ipynb", "y = 2")
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--nbval-lax", "--nbval-current-env", "-n", "2",
+                          "--dist", "loadgroup", "--no-loadscope-reorder", str(tmp_path)], cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    assert "4 passed" in run.stdout
