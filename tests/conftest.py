@@ -18,12 +18,12 @@ _CHAIN = ("07_", "08_")
 
 
 def xdist_group(path: Path) -> str:
-    """The pytest-xdist group of the items of one file: its path (a module's tests stay together, so its module-scoped
+    """The pytest-xdist group of the items of one file: its folder and name (a module's tests stay together, so its module-scoped
     fixtures are built once; a notebook's cells run in order in one kernel), or :data:`CHAIN_GROUP` for notebooks 07
     and 08."""
     if path.suffix == ".ipynb" and path.name.startswith(_CHAIN):
         return CHAIN_GROUP
-    return str(path)
+    return f"{path.parent.name}/{path.name}"  # (shown after the test names: short)
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own hook, which reads the marks
