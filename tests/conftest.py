@@ -26,6 +26,11 @@ def xdist_group(path: Path) -> str:
     return f"{path.parent.name}/{path.name}"  # (shown after the test names: short)
 
 
+def pytest_configure(config):
+    # registered by pytest-xdist too; here as well, so that a run without it (plain pytest) does not warn of an unknown mark
+    config.addinivalue_line("markers", "xdist_group(name): the pytest-xdist group of a test (set by tests/conftest.py)")
+
+
 @pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own hook, which reads the marks
 def pytest_collection_modifyitems(config, items):
     for item in items:
