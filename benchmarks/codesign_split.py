@@ -4,7 +4,7 @@ Reruns particles of a stored fast-path swarm (``benchmarks/results/codesign_fast
 as the swarm evaluated them: same h, warm-started from the best valid particle of the previous iteration (its gain and
 scenario set), by ``lib.codesign.evaluate_particle`` with the fast path, one BLAS thread, under the standard-library
 profiler. For each it reports the synthesis time, the part spent in worst-case searches (``lib.synthesis.worst_case``,
-cumulative), the model build, and checks that J_c is the stored one. It then projects the paper-setting swarm (20
+cumulative), the model build, and how far J_c is from the stored one (round-off across machines). It then projects the paper-setting swarm (20
 iterations of 24 particles, the first cold) on 2 workers with the searches at no cost: the floor that a faster search
 alone can reach.
 
@@ -71,7 +71,7 @@ def main() -> None:
     out_json = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "options": options, "checkpoint": Path(args.checkpoint).name,
                 "rows": rows, "mean_synthesis_s": syn, "mean_search_s": search, "search_share": search / syn, "mean_model_s": model,
                 "distinct_per_warm_iteration": distinct, "cold_iteration_s": cold_s, "projected_min_with_free_search": no_search_min,
-                "same_J_c": all(r["J_c"] == r["J_c_stored"] for r in rows)}
+                "largest_rel_diff_J_c": max(abs(r["J_c"] / r["J_c_stored"] - 1) for r in rows)}
     path = ROOT / "benchmarks" / "results" / "codesign_split.json"
     path.write_text(json.dumps(out_json, indent=1) + "\n")
     print(f"mean synthesis {syn:.1f} s, searches {search:.1f} s ({100 * search / syn:.0f} %), models {model:.1f} s; with free searches "
