@@ -4,12 +4,12 @@ Reruns particles of a stored fast-path swarm (``benchmarks/results/codesign_fast
 as the swarm evaluated them: same h, warm-started from the best valid particle of the previous iteration (its gain and
 scenario set), by ``lib.codesign.evaluate_particle`` with the fast path, one BLAS thread, under the standard-library
 profiler. For each it reports the synthesis time, the part spent in worst-case searches (``lib.synthesis.worst_case``,
-cumulative), the model build, and how far J_c is from the stored one (round-off across machines). It then projects the paper-setting swarm (20
-iterations of 24 particles, the first cold) on 2 workers with the searches at no cost: the floor that a faster search
-alone can reach.
+cumulative), the model build, and how far J_c is from the stored one (round-off across machines). It then projects the
+paper-setting swarm (20 iterations of 24 particles, the first cold) on 2 workers with the searches at no cost: the
+floor that a faster search alone can reach.
 
 Prints a line per particle and saves benchmarks/results/codesign_split.json (profiler overhead included).
-Run: python benchmarks/codesign_split.py [--iterations 5 10 15 19] [--particles 0 11] [--checkpoint PATH]
+Run: python benchmarks/codesign_split.py [--iterations 5 10 15 19] [--particles 3 11 17] [--checkpoint PATH]
 """
 
 from __future__ import annotations
