@@ -112,3 +112,19 @@ def test_notebooks_07_and_08_run_on_one_worker_in_order(tmp_path: Path) -> None:
                           "--dist", "loadgroup", "--no-loadscope-reorder", str(tmp_path)], cwd=tmp_path, capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     assert "4 passed" in run.stdout
+
+
+def test_notebooks_07_and_08_are_queued_first(tmp_path: Path) -> None:
+    """The chain is the longest group (about 15 of 25 min): it is collected first, 07 then 08, so the first worker starts
+    it at once and the other groups keep their order behind it."""
+    import shutil
+    import sys
+
+    shutil.copy(ROOT / "tests" / "conftest.py", tmp_path / "conftest.py")
+    for name in ("01_a", "08_reads", "02_b", "07_writes"):
+        _notebook(tmp_path / f"{name}.ipynb", "x = 1")
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "--collect-only", "-p", "no:cacheprovider", "--nbval-lax", str(tmp_path)],
+                         cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    files = [line.split("::")[0] for line in run.stdout.splitlines() if "::" in line]
+    assert files == ["07_writes.ipynb", "08_reads.ipynb", "01_a.ipynb", "02_b.ipynb"]
