@@ -32,8 +32,7 @@ from lib.closedloop import LoopSettings  # noqa: E402
 from lib.lft import LFT  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
-GRID = [synthesis.Scenario(float(c[0]), float(c[1]), float(c[2]), float(th)) for th in np.deg2rad(np.linspace(0.0, 180.0, 10))
-        for c in list(np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)) + [np.zeros(3)]]
+GRID = synthesis.search_candidates()  # the worst-case search's 90 candidates
 
 
 def _peaks(model: LFT, gain: np.ndarray, inertia: np.ndarray, settings: LoopSettings) -> tuple[np.ndarray, np.ndarray, float]:

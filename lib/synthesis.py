@@ -49,7 +49,7 @@ from .lft import LFT
 from .modalloop import ModalLoop, sigma_max
 
 __all__ = ["ALGORITHM", "NOT_STABILISED", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
-           "plant_at", "default_scenarios", "exact_norms", "sigma_curve", "check_options"]
+           "search_candidates", "plant_at", "default_scenarios", "exact_norms", "sigma_curve", "check_options"]
 
 GROUPS = ("rpe", "effort")
 # Version of the optimiser: stored with cached results (co-design grid, swarm checkpoints) so that results of an
@@ -490,6 +490,14 @@ class WorstCase:
     unstable: list[Scenario] = field(default_factory=list)
 
 
+def search_candidates(thetas_deg: Sequence[float] | None = None) -> list[Scenario]:
+    """The grid of :func:`worst_case`: the 8 corners of (M_SC, Iyy_SC, omega1_SP) and the nominal at each panel angle
+    [deg] (default 10, every 20 deg from 0 to 180), angle by angle."""
+    thetas = np.deg2rad(np.linspace(0.0, 180.0, 10) if thetas_deg is None else _thetas_deg(thetas_deg))
+    corners = [np.array(c) for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)] + [np.zeros(3)]
+    return [Scenario(float(c[0]), float(c[1]), float(c[2]), float(th)) for th in thetas for c in corners]
+
+
 def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, thetas_deg: Sequence[float] | None = None,
                refine: int = 2, max_evals: int = 30, min_decay: float = 1e-7, workers: int | None = None,
                min_damping: float = 0.0) -> WorstCase:
@@ -504,8 +512,7 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     _check_option("max_evals", max_evals, 1, integer=True)
     _check_option("min_decay", min_decay, 0.0)
     _check_option("min_damping", min_damping, 0.0, 1.0, open_high=True)
-    thetas = np.deg2rad(np.linspace(0.0, 180.0, 10) if thetas_deg is None else _thetas_deg(thetas_deg))
-    corners = [np.array(c) for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)] + [np.zeros(3)]
+    cands = search_candidates(thetas_deg)
     evals = 0
     unstable: list[Scenario] = []
 
@@ -520,7 +527,6 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
         return lp
 
     with _workers(workers) as pmap:
-        cands = [Scenario(float(c[0]), float(c[1]), float(c[2]), float(th)) for th in thetas for c in corners]
         table = list(zip(cands, pmap(evaluate, cands)))
         evals += len(cands)
         value, worst, omega = {}, {}, {}
