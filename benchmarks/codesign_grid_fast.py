@@ -6,9 +6,12 @@ point by point with the stored grid (computed by the dense path, synthesis v4): 
 J_c, Z_c, validity. The two paths evaluate the same quantities (to 1e-8 in the tests); where the optimiser's path
 branches on those differences the syntheses end at different local optima, which this shows.
 
+With ``--tol`` another stopping tolerance of the synthesis (e.g. its default 2e-3 instead of the co-design's 1e-2: the
+objective with syntheses run further, ``benchmarks/thin_end_plateau.py``); the files then carry the suffix ``_tol<tol>``.
+
 Prints the comparison and saves benchmarks/results/codesign_grid_fast.json (the records in
 benchmarks/results/codesign_grid_fast_records.json, resumable).
-Run: python benchmarks/codesign_grid_fast.py [--workers 2]
+Run: python benchmarks/codesign_grid_fast.py [--workers 2] [--tol 0.01]
 """
 
 from __future__ import annotations
@@ -32,15 +35,18 @@ ROOT = Path(__file__).parents[1]
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--workers", type=int, default=2, help="Dask workers (default 2, one per core)")
+    parser.add_argument("--tol", type=float, default=codesign.SYNTHESIS_OPTIONS["tol"],
+                        help="stopping tolerance of the synthesis (default the co-design's)")
     args = parser.parse_args()
+    suffix = "" if args.tol == codesign.SYNTHESIS_OPTIONS["tol"] else f"_tol{args.tol:g}"
     dense = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())
     hs = [r["h"] for r in dense["records"]]
     settings = LoopSettings.from_parameters()
-    options = {**codesign.SYNTHESIS_OPTIONS, "fast": True}
+    options = {**codesign.SYNTHESIS_OPTIONS, "tol": args.tol, "fast": True}
     key = {"h": hs, "settings": settings.__dict__, "synthesis": options, "algorithm": synthesis.ALGORITHM}
     client = codesign.local_client(args.workers)
     try:
-        records, time_s = codesign.evaluate_grid(hs, client, settings, cache=Path(__file__).parent / "results" / "codesign_grid_fast_records.json",
+        records, time_s = codesign.evaluate_grid(hs, client, settings, cache=Path(__file__).parent / "results" / f"codesign_grid_fast{suffix}_records.json",
                                                  key=key, chunk=2 * args.workers, synthesis_options=options)
     finally:
         client.close()
@@ -57,7 +63,7 @@ def main() -> None:
             and abs(r["fast_J_c"] - r["dense_J_c"]) <= 1e-4 * r["dense_J_c"]]
     i_d, i_f = int(np.argmin([r["dense_f"] for r in rows])), int(np.argmin([r["fast_f"] for r in rows]))
     out = dict(machine=machine_info(),
-               synthesis=synthesis.ALGORITHM, workers=args.workers, points=len(hs),
+               synthesis=synthesis.ALGORITHM, options=options, workers=args.workers, points=len(hs),
                wall_s=dict(dense=dense.get("time_s"), fast=time_s),
                synthesis_s_total=dict(dense=float(sum(r["dense_t_synthesis"] for r in rows)),
                                       fast=float(sum(r["fast_t_synthesis"] for r in rows))),
@@ -69,7 +75,7 @@ def main() -> None:
           f"{out['synthesis_s_total']['dense'] / 60:.1f} -> {out['synthesis_s_total']['fast'] / 60:.1f} min; J_c equal to 1e-4 at "
           f"{len(same)} of {len(rows)} points; valid {out['valid']['dense']} / {out['valid']['fast']}; minimum f^n dense "
           f"{rows[i_d]['dense_f']:.5f} at {100 * rows[i_d]['h']:.2f} cm, fast {rows[i_f]['fast_f']:.5f} at {100 * rows[i_f]['h']:.2f} cm")
-    path = Path(__file__).parent / "results" / "codesign_grid_fast.json"
+    path = Path(__file__).parent / "results" / f"codesign_grid_fast{suffix}.json"
     path.write_text(json.dumps(out, indent=2) + "\n")
     print(f"saved {path}")
 
