@@ -10,8 +10,13 @@ J_c, Z_c, validity, iterations, rounds (worst-case searches), time, the J of eve
 and f^n. A plateau shows as a slow decrease of J that the 5-step stopping test (less than ``tol`` relative decrease of
 J over the last 5 accepted steps) ends at one tolerance and the other goes through.
 
+With ``--active-set`` every trust-region LP of the runs is also recorded: how many J peaks, pole-damping (stability)
+rows and gain entries of the trust box are active at its solution, the radius, and the relative decrease it predicts;
+the results then go to ``thin_end_plateau_active_set.json``.
+
 Prints a line per run and saves benchmarks/results/thin_end_plateau.json.
 Run: python benchmarks/thin_end_plateau.py [--h 0.015 0.0155] [--tols 0.01 0.002] [--paths dense fast] [--processes 2]
+     [--active-set]
 """
 
 from __future__ import annotations
@@ -21,7 +26,9 @@ import json
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
@@ -32,12 +39,36 @@ from lib.closedloop import LoopSettings  # noqa: E402
 ROOT = Path(__file__).parents[1]
 
 
-def _run(job: tuple[float, float, str]) -> dict:
+def _recording_lp(log: list[dict]) -> Callable[..., Any]:
+    """``lib.synthesis._lp`` that also appends the active set of each solution to ``log`` (the synthesis calls its LP
+    by module name, so replacing it in this process is how the benchmark sees every step; the library is unchanged)."""
+    solve = synthesis._lp
+
+    def lp(objective: Sequence[tuple[float, Any]], constraints: Sequence[tuple[float, Any, float]], radius: Any,
+           soft: Sequence = (), penalty: float = 0.0) -> Any:
+        sol = solve(objective, constraints, radius, soft, penalty)
+        rec: dict = {"J_rows": len(objective), "stability_rows": len(constraints), "radius": float(radius.max())}
+        if sol is not None:
+            d, t, _ = sol
+            rec.update(J_active=int(sum(f + g @ d >= t - 1e-9 for f, g in objective)),
+                       stability_active=int(sum(c + h.ravel() @ d >= b - 1e-9 * max(1.0, abs(b)) for c, h, b in constraints)),
+                       box_active=int(sum(abs(abs(d) - radius) <= 1e-9 * radius)),
+                       predicted_rel_decrease=float(1.0 - t / max(f for f, _ in objective)) if objective else None)
+        log.append(rec)
+        return sol
+
+    return lp
+
+
+def _run(job: tuple[float, float, str, bool]) -> dict:
     """One cold synthesis at ``h`` [m] with the co-design's options, tolerance ``tol``, by ``path`` ("dense" or "fast");
-    its record."""
+    its record (with ``active_set``, the active set of every LP)."""
     from threadpoolctl import threadpool_limits
 
-    h, tol, path = job
+    h, tol, path, active_set = job
+    log: list[dict] = []
+    if active_set:
+        synthesis._lp = _recording_lp(log)
     settings = LoopSettings.from_parameters()
     with threadpool_limits(1):
         models = design.models_at(h)
@@ -48,7 +79,8 @@ def _run(job: tuple[float, float, str]) -> dict:
     mass = spacecraft.truss_mass(h)
     return {"h": h, "tol": tol, "path": path, "J_c": res.j_c, "Z_c": res.z_c, "success": res.success, "message": res.message,
             "iterations": res.iterations, "searches": res.searches, "time_s": wall, "accepted_J": accepted,
-            "f": codesign.objective_value(mass, res.j_c, codesign.M0_PAPER) if res.success else None}
+            "f": codesign.objective_value(mass, res.j_c, codesign.M0_PAPER) if res.success else None,
+            **({"lp_active_sets": log} if active_set else {})}
 
 
 def main() -> None:
@@ -58,10 +90,11 @@ def main() -> None:
                         help="stopping tolerances (default: the co-design's and the synthesis default)")
     parser.add_argument("--paths", nargs="*", default=["dense", "fast"], choices=["dense", "fast"])
     parser.add_argument("--processes", type=int, default=2)
+    parser.add_argument("--active-set", action="store_true", help="record the active set of every LP")
     args = parser.parse_args()
     grid = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())
     stored = {round(r["h"], 7): r for r in grid["records"]}
-    jobs = [(h, tol, path) for h in args.h for tol in args.tols for path in args.paths]
+    jobs = [(h, tol, path, args.active_set) for h in args.h for tol in args.tols for path in args.paths]
     with ProcessPoolExecutor(args.processes) as pool:
         rows = list(pool.map(_run, jobs))
     for row in rows:
@@ -75,7 +108,7 @@ def main() -> None:
               + ("" if ref is None else f"; stored dense grid J_c {ref['J_c']:.5f} ({ref.get('iterations')} iterations)"))
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "options": codesign.SYNTHESIS_OPTIONS,
            "rows": rows}
-    path = ROOT / "benchmarks" / "results" / "thin_end_plateau.json"
+    path = ROOT / "benchmarks" / "results" / f"thin_end_plateau{'_active_set' if args.active_set else ''}.json"
     path.write_text(json.dumps(out, indent=1, default=float) + "\n")
     print(f"saved {path}")
 
