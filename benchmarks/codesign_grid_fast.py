@@ -8,10 +8,12 @@ branches on those differences the syntheses end at different local optima, which
 
 With ``--tol`` another stopping tolerance of the synthesis (e.g. its default 2e-3 instead of the co-design's 1e-2: the
 objective with syntheses run further, ``benchmarks/thin_end_plateau.py``); the files then carry the suffix ``_tol<tol>``.
+With ``--trust-region ball`` the synthesis's steps are taken in the box cut by a ball (``benchmarks/trust_region.py``);
+suffix ``_ball``.
 
 Prints the comparison and saves benchmarks/results/codesign_grid_fast.json (the records in
 benchmarks/results/codesign_grid_fast_records.json, resumable).
-Run: python benchmarks/codesign_grid_fast.py [--workers 2] [--tol 0.01]
+Run: python benchmarks/codesign_grid_fast.py [--workers 2] [--tol 0.01] [--trust-region box]
 """
 
 from __future__ import annotations
@@ -37,12 +39,14 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="Dask workers (default 2, one per core)")
     parser.add_argument("--tol", type=float, default=codesign.SYNTHESIS_OPTIONS["tol"],
                         help="stopping tolerance of the synthesis (default the co-design's)")
+    parser.add_argument("--trust-region", default="box", choices=["box", "ball"], help="shape of the synthesis's steps")
     args = parser.parse_args()
-    suffix = "" if args.tol == codesign.SYNTHESIS_OPTIONS["tol"] else f"_tol{args.tol:g}"
+    suffix = ("" if args.tol == codesign.SYNTHESIS_OPTIONS["tol"] else f"_tol{args.tol:g}") + ("_ball" if args.trust_region == "ball" else "")
     dense = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())
     hs = [r["h"] for r in dense["records"]]
     settings = LoopSettings.from_parameters()
-    options = {**codesign.SYNTHESIS_OPTIONS, "tol": args.tol, "fast": True}
+    options = {**codesign.SYNTHESIS_OPTIONS, "tol": args.tol, "fast": True,
+               **({"trust_region": "ball"} if args.trust_region == "ball" else {})}
     key = {"h": hs, "settings": settings.__dict__, "synthesis": options, "algorithm": synthesis.ALGORITHM}
     client = codesign.local_client(args.workers)
     try:

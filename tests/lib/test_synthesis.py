@@ -414,7 +414,8 @@ def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
 @pytest.mark.parametrize("option, value, error", [
     ("max_iter", 0, ValueError), ("max_rounds", 2.5, TypeError), ("tol", 0.0, ValueError), ("band", 1.5, ValueError),
     ("margin", 1.0, ValueError), ("min_damping_all", -1e-4, ValueError), ("search_damping", 2.0, ValueError),
-    ("radius0", float("nan"), ValueError), ("workers", 0, ValueError), ("min_decay", "1e-7", TypeError)])
+    ("radius0", float("nan"), ValueError), ("workers", 0, ValueError), ("min_decay", "1e-7", TypeError),
+    ("trust_region", "sphere", ValueError), ("trust_region", None, ValueError)])
 def test_synthesis_options_are_checked_before_any_work(option, value, error):
     """A bad option is named with its allowed range before any model is touched (the model here is not even one)."""
     with pytest.raises(error, match=option):
@@ -500,6 +501,29 @@ def test_per_group_evaluates_each_point_with_its_own_group():
     assert out.tolist() == [2.0, 1.0, 2.0, 2.0, 1.0]
 
 
+def test_ball_trust_region_cuts_the_corner_of_the_box():
+    """min t s.t. t >= -d_1 - d_2 with |d_i| <= 1: the box's step is its corner (1, 1), t = -2; with the ball
+    ||d||_2 <= sqrt(2) / 2 cut in, the step goes along the gradient to (1/2, 1/2), t = -1 (by hand)."""
+    obj = [(0.0, np.array([-1.0, -1.0]))]
+    d, t, s = synthesis._lp(obj, [], np.ones(2))
+    assert np.allclose([*d, t, s], [1.0, 1.0, -2.0, 0.0])
+    d, t, s = synthesis._lp(obj, [], np.ones(2), shape="ball")
+    assert np.allclose([*d, t, s], [0.5, 0.5, -1.0, 0.0], atol=1e-6)
+
+
+def test_ball_trust_region_keeps_an_interior_optimum_and_the_elastic_rows():
+    """In 1-D the ball is |d| <= r / 2. t = max(2 - d, d) is least at d = 1, inside the ball of r = 5 (as in the box);
+    d <= -1 (hard) cannot hold in |d| <= 0.25 (None); soft, it takes the slack: min t + 10 s over d in [-0.25, 0.25]
+    with s = d + 1 is at d = -0.25, s = 0.75 (by hand)."""
+    obj = [(2.0, np.array([-1.0])), (0.0, np.array([1.0]))]
+    d, t, _ = synthesis._lp(obj, [], np.array([5.0]), shape="ball")
+    assert np.allclose([d[0], t], [1.0, 1.0], atol=1e-6)
+    objective = [(0.0, np.array([1.0]))]
+    assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5]), shape="ball") is None
+    d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0, shape="ball")
+    assert np.allclose([d[0], t, s], [-0.25, -0.25, 0.75], atol=1e-6)
+
+
 def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
     """min t s.t. f_j + g_j d <= t, |d| <= r, by hand: t = max(2 - d, d) is least at d = 1 (t = 1) inside r = 5, at the
     trust-region edge d = 0.5 (t = 1.5) for r = 0.5; t may be negative (the objective has no lower bound)."""
@@ -573,17 +597,19 @@ def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
     assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
 
 
-def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, inertia):
+@pytest.mark.parametrize("shape", ["box", "ball"])
+def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, inertia, shape):
     """From an effort-infeasible start (3 x the 2.1 cm grid gain at 2.139 cm, stabilised: Z = 8.24, measured) the
     optimiser first lowers the worst effort peak at every accepted step until Z < gamma_u, then lowers the merit
     with Z kept below gamma_u, and stops by its own tests (not the iteration limit). The final J and Z are those of
     the certified H-infinity norms of the two closed loops (Hamiltonian method) to 1e-6: the peaks it optimised are
-    the true norms, not grid values."""
+    the true norms, not grid values. The same with either trust region (from the same start, stabilised in the box)."""
     scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
     plants = [plant_at(model, s, inertia, ST) for s in scs]
     prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4)
     start = synthesis._stabilise(prob, prob.evaluate_all(3.0 * _grid_gain(0.021)))
     assert start.stable() and start.value("effort") > 2.0 * ST.gamma_u
+    prob.trust_region = shape
     n_stab = len(prob.history)
     end, at_limit = synthesis._optimise(prob, start)
     steps = prob.history[n_stab:]
@@ -600,3 +626,18 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
     for group in ("rpe", "effort"):
         assert all(e[group][2] for e in exact)
         assert max(e[group][0] for e in exact) == pytest.approx(end.value(group), rel=1e-6)
+
+
+def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkeypatch):
+    """Every LP of a synthesis (stabilisation and optimisation) gets the shape given to synthesize."""
+    shapes: list[str] = []
+    lp = synthesis._lp
+
+    def recording(*args, **kwargs):
+        shapes.append(kwargs["shape"] if "shape" in kwargs else args[5])
+        return lp(*args, **kwargs)
+
+    monkeypatch.setattr(synthesis, "_lp", recording)
+    synthesis.synthesize(model, inertia, ST, gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], max_iter=3, max_rounds=1,
+                         search_thetas_deg=[0.0], workers=1, trust_region="ball")
+    assert len(shapes) >= 3 and set(shapes) == {"ball"}
