@@ -10,10 +10,11 @@ J_c, Z_c and success still from the dense final evaluation and searches); its ch
 (``runs/benchmark_codesign_fast_checkpoint.json``, ``results/codesign_fast.json``). An interrupted run resumes from its
 checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in. With
 ``--rule matlab`` the swarm adapts by MATLAB particleswarm's rules as its code applies them (:mod:`lib.pso`), with
-``_matlab_rule`` added to the names of the checkpoint and JSON.
+``_matlab_rule`` added to the names of the checkpoint and JSON; with ``--trust-region ball`` every synthesis steps in the
+box cut by a ball (``benchmarks/trust_region.py``), ``_ball`` added to the names.
 
 Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--fast]
-                                   [--rule documented|matlab] [--stop-after K] [--json PATH]
+                                   [--rule documented|matlab] [--trust-region box|ball] [--stop-after K] [--json PATH]
      python benchmarks/codesign.py --report data/results/07_pso_checkpoint.json   # the timing of a run already made
                                                                                   # (e.g. notebook 07's main job)
 """
@@ -33,9 +34,10 @@ from _machine import machine_info  # noqa: E402
 from lib import codesign  # noqa: E402
 
 
-def _suffix(fast: bool, rule: str) -> str:
-    """Name suffix of the checkpoint and JSON of a run by the fast path and/or MATLAB's coded swarm rules."""
-    return ("_fast" if fast else "") + ("_matlab_rule" if rule == "matlab" else "")
+def _suffix(fast: bool, rule: str, trust_region: str = "box") -> str:
+    """Name suffix of the checkpoint and JSON of a run by the fast path, MATLAB's coded swarm rules and/or the ball
+    trust region."""
+    return ("_fast" if fast else "") + ("_matlab_rule" if rule == "matlab" else "") + ("_ball" if trust_region == "ball" else "")
 
 
 def main() -> None:
@@ -53,15 +55,19 @@ def main() -> None:
     parser.add_argument("--report", default="", help="report the timing stored in this checkpoint instead of running")
     parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign[_fast].json;"
                         " give another path for a rerun that must not replace the stored one)")
+    parser.add_argument("--trust-region", choices=["box", "ball"], default="box",
+                        help="shape of every synthesis step (lib.synthesis.synthesize, trust_region; default the box)")
     args = parser.parse_args()
-    suffix = _suffix(args.fast, args.rule)
+    suffix = _suffix(args.fast, args.rule, args.trust_region)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
-    options = {**codesign.SYNTHESIS_OPTIONS, "fast": True} if args.fast else None
+    extra = {**({"fast": True} if args.fast else {}), **({"trust_region": "ball"} if args.trust_region == "ball" else {})}
+    options = {**codesign.SYNTHESIS_OPTIONS, **extra} if extra else None  # None: the default, as the stored runs
     if args.report:
         from lib import pso
 
         state = pso.load_state(args.report)
-        suffix = _suffix(bool((state.extra.get("options") or {}).get("fast")), state.rule)  # the run's, not the flags'
+        run_options = state.extra.get("options") or {}
+        suffix = _suffix(bool(run_options.get("fast")), state.rule, run_options.get("trust_region", "box"))  # the run's, not the flags'
         n_workers = os.cpu_count()
         particles, iterations = len(state.x), state.iteration
     else:
