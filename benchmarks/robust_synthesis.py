@@ -39,15 +39,25 @@ from lib import design, robustness  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
 
+def grid_design(h0: float) -> tuple[dict, list]:
+    """The co-design grid's design at ``h0`` [m] (data/results/07_grid.json): its record (gain, J_c, ...) and its final
+    scenario set, the warm start a co-design makes (notebook 07's Step 3)."""
+    from lib import synthesis
+
+    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
+    rec = next((r for r in grid["records"] if abs(r["h"] - h0) < 1e-9), None)
+    if rec is None:
+        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid (data/results/07_grid.json)")
+    return rec, [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
+
+
 def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings) -> dict:
     """Warm starts from the co-design grid's design at ``h0`` [m] (its gain and final scenario set, the co-design's
     tolerance) to ``h0 + step``: first how the gain itself fares at the new h (largest real part and smallest
     damping ratio of the closed-loop poles over the scenario set), then the synthesis time."""
     from lib import codesign, synthesis
 
-    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
-    rec = next(r for r in grid["records"] if abs(r["h"] - h0) < 1e-9)
-    scen = [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
+    rec, scen = grid_design(h0)
     out = {}
     for step in steps:
         m = design.models_at(h0 + step)
@@ -106,13 +116,11 @@ def _fast_against_dense(settings: LoopSettings) -> dict:
     """The same syntheses by the dense path and by the fast one (``fast=True``, :mod:`lib.modalloop`): cold at
     2.139 cm, warm-started there from the gain of a design at 2.0 cm, and from the co-design grid's 2.1 cm design
     (gain and scenario set, co-design tolerance)."""
-    from lib import codesign, synthesis
+    from lib import codesign
 
     m = design.models_at(0.02139)
     near = design.robust_design(design.models_at(0.020), settings, fast=True)
-    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
-    rec = next(r for r in grid["records"] if abs(r["h"] - 0.021) < 1e-9)
-    scen = [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
+    rec, scen = grid_design(0.021)
     cases = {"cold_2.139cm": {},
              "warm_from_h_2.0cm": dict(gain0=near.gain),
              "warm_from_grid_2.1cm_codesign_tol": dict(gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)}

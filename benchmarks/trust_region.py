@@ -28,6 +28,7 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from _machine import machine_info  # noqa: E402
+from robust_synthesis import grid_design  # noqa: E402
 from lib import codesign, design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
@@ -48,9 +49,8 @@ def _run(job: tuple[str, float, float, bool, str]) -> dict:
     settings = LoopSettings.from_parameters()
     kw: dict = dict(codesign.SYNTHESIS_OPTIONS, tol=tol, fast=True, trust_region=shape)
     if warm:
-        grid = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())
-        rec = next(r for r in grid["records"] if abs(r["h"] - 0.021) < 1e-9)
-        kw.update(gain0=rec["gain"], scenarios=[synthesis.Scenario.from_vector(v) for v in rec["scenarios"]])
+        rec, scen = grid_design(0.021)
+        kw.update(gain0=rec["gain"], scenarios=scen)
     with threadpool_limits(1):
         models = design.models_at(h)
         t0 = time.perf_counter()
