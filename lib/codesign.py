@@ -370,8 +370,19 @@ def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float
     """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters (a SHA-256 of their
     JSON) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
     digest = None if params is None else hashlib.sha256(json.dumps(params, sort_keys=True, default=str).encode()).hexdigest()
-    key = {"settings": None if settings is None else settings.__dict__, "params_sha256": digest, "m0": float(m0)}
+    # settings=None is what lib.design.robust_design then takes, the data file's settings: stored resolved, so that a run
+    # with None and one with those settings given are the same objective
+    resolved = LoopSettings.from_parameters() if settings is None else settings
+    key = {"settings": resolved.__dict__, "params_sha256": digest, "m0": float(m0)}
     return json.loads(json.dumps(key, default=str))  # as it reads back from a checkpoint
+
+
+def _same_objective(stored: dict, objective: dict) -> bool:
+    """Whether a checkpoint's objective key is ``objective`` (:func:`_objective_key`); checkpoints written before
+    2026-12-05 stored ``settings=None`` unresolved."""
+    if stored.get("settings") is None:
+        stored = {**stored, "settings": _objective_key(None, None, 0.0)["settings"]}
+    return stored == objective
 
 
 def _normalised_options(options: dict | None) -> Any:
@@ -449,7 +460,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         if _normalised_options(extra.get("options")) != _normalised_options(synthesis_options):
             raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
                              f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
-        if "objective" in extra and extra["objective"] != objective:  # (checkpoints written before 2026-12-03 lack it)
+        if "objective" in extra and not _same_objective(extra["objective"], objective):  # (checkpoints written before 2026-12-03 lack it)
             raise ValueError(f"checkpoint {checkpoint} was computed for another objective (settings, parameters or m0: "
                              f"{extra['objective']!r}, not {objective!r}): pass another checkpoint path to run")
 

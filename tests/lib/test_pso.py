@@ -253,6 +253,34 @@ def test_codesign_refuses_a_checkpoint_of_another_objective_and_normalises_optio
                           synthesis_options=dict(codesign.SYNTHESIS_OPTIONS))  # None means the default options
 
 
+
+def test_default_settings_given_or_not_are_the_same_objective(tmp_path, monkeypatch):
+    """``settings=None`` is what the synthesis then takes, the data file's settings: a run started with None resumes with
+    those settings given explicitly (a notebook passes them) and the other way round, also from a checkpoint that stored
+    None (written before 2026-12-05); other settings are still another objective."""
+    import json
+
+    def fake(h, gain0=None, fail=False, **kw):
+        return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    run = dict(seed=0, progress=False, log=lambda s: None)
+    explicit = LoopSettings.from_parameters()
+    for first, then in ((None, explicit), (explicit, None)):
+        ck = tmp_path / f"state_{first is None}.json"
+        codesign.run_codesign(2, 3, checkpoint=ck, settings=first, stop_after=1, **run)
+        assert codesign.run_codesign(2, 3, checkpoint=ck, settings=then, **run).iteration == 3
+    old = tmp_path / "old.json"
+    codesign.run_codesign(2, 3, checkpoint=old, stop_after=1, **run)
+    state = json.loads(old.read_text())
+    state["extra"]["objective"]["settings"] = None  # as checkpoints stored settings=None before
+    old.write_text(json.dumps(state))
+    assert codesign.run_codesign(2, 3, checkpoint=old, settings=explicit, **run).iteration == 3
+    other = tmp_path / "other.json"
+    codesign.run_codesign(2, 3, checkpoint=other, stop_after=1, **run)
+    with pytest.raises(ValueError, match="another objective"):
+        codesign.run_codesign(2, 3, checkpoint=other, settings=explicit.replace(t_delta=0.03), **run)
+
 def test_a_failed_synthesis_never_becomes_the_warm_start(monkeypatch):
     starts = []
 
