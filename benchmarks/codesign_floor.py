@@ -11,7 +11,7 @@ gather. This script measures, on one thread (as a Dask worker of notebook 07 run
   tolerance (its iterations, accepted steps, plant evaluations and time), then one worst-case search over the
   uncertainty box with its final gain (plant evaluations and time);
 
-and, from the stored swarm (``data/results/07_pso_checkpoint.json``), the mean number of distinct particles per
+and, from the stored swarm (``data/results/box/07_pso_checkpoint.json``), the mean number of distinct particles per
 iteration. With ``--fast`` the same plant evaluations and warm synthesis are also measured by the fast path
 (``fast=True``, :mod:`lib.modalloop`), with its projection. Two projections of the 24 x 20 run, ``20 x distinct particles x (model + synthesis) / workers`` with the
 workers never idle: with the measured warm synthesis, and with a synthesis that only verifies its start (evaluates
@@ -53,7 +53,7 @@ def main() -> None:
     parser.add_argument("--fast", action="store_true", help="also measure the fast path (lib.modalloop)")
     args = parser.parse_args()
     settings = LoopSettings.from_parameters()
-    state = pso.load_state(ROOT / "data" / "results" / "07_pso_checkpoint.json")
+    state = pso.load_state(ROOT / "data" / "results" / "box" / "07_pso_checkpoint.json")
     gain = np.array(state.extra["best_gain"])
     scen = [synthesis.Scenario.from_vector(v) for v in state.extra["best_scenarios"]]
     from lib.modalloop import ModalLoop

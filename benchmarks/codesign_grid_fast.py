@@ -1,6 +1,6 @@
 """Benchmark: notebook 07's dense grid of the co-design objective by the fast path, against the stored dense-path grid.
 
-Evaluates f^n(h) at the 31 points of ``data/results/07_grid.json`` (cold syntheses, the co-design's tolerance) with
+Evaluates f^n(h) at the 31 points of ``data/results/box/07_grid.json`` (cold syntheses, the co-design's tolerance) with
 ``synthesis_options = {"tol": 1e-2, "fast": True}`` (:mod:`lib.modalloop`) on a local Dask cluster, and compares
 point by point with the stored grid (computed by the dense path, synthesis v4): wall time, synthesis time per point,
 J_c, Z_c, validity. The two paths evaluate the same quantities (to 1e-8 in the tests); where the optimiser's path
@@ -42,7 +42,7 @@ def main() -> None:
     parser.add_argument("--trust-region", default="box", choices=["box", "ball"], help="shape of the synthesis's steps")
     args = parser.parse_args()
     suffix = ("" if args.tol == codesign.SYNTHESIS_OPTIONS["tol"] else f"_tol{args.tol:g}") + ("_ball" if args.trust_region == "ball" else "")
-    dense = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())
+    dense = json.loads((ROOT / "data" / "results" / "box" / "07_grid.json").read_text())
     hs = [r["h"] for r in dense["records"]]
     settings = LoopSettings.from_parameters()
     options = {**codesign.SYNTHESIS_OPTIONS, "tol": args.tol, "fast": True,

@@ -2,7 +2,7 @@
 
 Notebook 08 certifies the upper bound over every frequency at the critical angle of each transfer (section 4b). This
 script does it at the ``--top`` angles with the largest upper bound of each transfer in the stored sweep
-(``data/results/08_worst_case_mu.json``), on ``--workers`` Dask workers (one job per angle and transfer): at each, the
+(``data/results/box/08_worst_case_mu.json``), on ``--workers`` Dask workers (one job per angle and transfer): at each, the
 grid bounds of :func:`lib.robustness.bounds_at_angle` (as the sweep computes them), then
 :func:`lib.robustness.certify_at_angle` from the grid's frequencies. It records the certified level, whether the whole
 frequency axis is covered, the points it took and the largest pointwise bound found among them: above the grid's upper
@@ -52,7 +52,7 @@ def main() -> None:
     parser.add_argument("--slack", type=float, default=0.02)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    stored = json.loads((ROOT / "data" / "results" / "08_worst_case_mu.json").read_text())
+    stored = json.loads((ROOT / "data" / "results" / "box" / "08_worst_case_mu.json").read_text())
     res, params = stored["results"], stored["parameters"]
     models = design.models_at(res["h"])
     gain = np.array(res["gain"])

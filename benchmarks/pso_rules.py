@@ -6,7 +6,7 @@ the paper's swarm (24 particles, 20 iterations, h in [1.5, 3] cm) with each rule
 objectives, so that the difference is measured, not argued:
 
 * ``grid``: the co-design objective f^n(h) interpolated linearly between the 31 points of the stored dense grid
-  (``data/results/07_grid.json``, cold syntheses). A surrogate only: the real f^n also depends on each particle's warm
+  (``data/results/box/07_grid.json``, cold syntheses). A surrogate only: the real f^n also depends on each particle's warm
   start (notebook 07, section 5), which no interpolation holds;
 * ``multimodal``: ``1 + (x - 0.3)^2 + 0.1 sin^2(20 x)`` on the same range scaled to [0, 1] (local minima near 0.15 and
   0.45; the 1 puts it at the scale of f^n, so that the relative gap is comparable).
@@ -37,7 +37,7 @@ H_RANGE = (0.015, 0.03)
 
 def _grid_objective() -> tuple[np.ndarray, np.ndarray]:
     """The stored grid's (h, f^n), sorted by h."""
-    records = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())["records"]
+    records = json.loads((ROOT / "data" / "results" / "box" / "07_grid.json").read_text())["records"]
     h = np.array([r["h"] for r in records])
     f = np.array([r["f"] for r in records])
     order = np.argsort(h)

@@ -40,14 +40,14 @@ from lib.closedloop import LoopSettings  # noqa: E402
 
 
 def grid_design(h0: float) -> tuple[dict, list]:
-    """The co-design grid's design at ``h0`` [m] (data/results/07_grid.json): its record (gain, J_c, ...) and its final
+    """The co-design grid's design at ``h0`` [m] (data/results/box/07_grid.json): its record (gain, J_c, ...) and its final
     scenario set, the warm start a co-design makes (notebook 07's Step 3)."""
     from lib import synthesis
 
-    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
+    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "box" / "07_grid.json").read_text())
     rec = next((r for r in grid["records"] if abs(r["h"] - h0) < 1e-9), None)
     if rec is None:
-        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid (data/results/07_grid.json)")
+        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid (data/results/box/07_grid.json)")
     return rec, [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
 
 

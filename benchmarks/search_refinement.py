@@ -40,10 +40,10 @@ SEARCH_DAMPING = _DEFAULTS["search_damping"] * _DEFAULTS["min_damping_all"]  # w
 
 def _designs(n_swarm: int, seed: int) -> list[dict]:
     """Stored designs: ``n_swarm`` valid swarm particles (fixed seed), the grid's at 2.1, 2.15, 2.2 and 3 cm."""
-    swarm = json.loads((ROOT / "data" / "results" / "07_pso_checkpoint.json").read_text())
+    swarm = json.loads((ROOT / "data" / "results" / "box" / "07_pso_checkpoint.json").read_text())
     valid = [r for r in swarm["history"] if r["status"] == "ok" and r["gain"] is not None]
     picks = [dict(valid[i], source="swarm") for i in np.random.default_rng(seed).choice(len(valid), n_swarm, replace=False)]
-    grid = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())["records"]
+    grid = json.loads((ROOT / "data" / "results" / "box" / "07_grid.json").read_text())["records"]
     picks += [dict(r, source="grid") for r in grid
               if r["gain"] is not None and any(abs(r["h"] - h) < 1e-9 for h in (0.021, 0.0215, 0.022, 0.03))]
     return picks

@@ -22,7 +22,7 @@ optimum lies.
 With ``--fast`` the synthesis evaluates the optimiser's plants by the fast path (:mod:`lib.modalloop`, as the
 co-design's fast runs do; ``modal_poles`` is then the Aberth iteration of the closed-loop poles, part of
 ``optimiser_peaks``); with ``--warm`` it starts, as a co-design particle does, from the gain and scenario set of the
-stored co-design grid's design nearest below h (``data/results/07_grid.json``) instead of all gains at -1.
+stored co-design grid's design nearest below h (``data/results/box/07_grid.json``) instead of all gains at -1.
 
 Prints a table and saves benchmarks/results/synthesis_profile.json (``--out`` elsewhere).
 Run: python benchmarks/synthesis_profile.py [--h 0.015 0.02139 0.03] [--fast] [--warm] [--out PATH]
@@ -74,7 +74,7 @@ def _cumulative(stats: pstats.Stats, name: str, caller: str | None) -> float:
 
 def _warm_start(h: float) -> tuple[float, dict]:
     """The stored co-design grid's design nearest below ``h`` [m]: its h and the warm-start arguments (gain, scenarios)."""
-    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "07_grid.json").read_text())
+    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "box" / "07_grid.json").read_text())
     below = [r for r in grid["records"] if r["h"] < h - 1e-9 and r["status"] == "ok"]
     if not below:
         raise SystemExit(f"--warm: the stored grid has no valid design below h = {h} m")

@@ -1,6 +1,6 @@
 """Benchmark: are the co-design grid's thin-end designs (1.5 and 1.55 cm) local optima of the synthesis, or a plateau?
 
-The stored dense grid of notebook 07 (``data/results/07_grid.json``, co-design tolerance ``tol = 0.01``) has J_c = 0.164
+The stored dense grid of notebook 07 (``data/results/box/07_grid.json``, co-design tolerance ``tol = 0.01``) has J_c = 0.164
 at 1.5 cm and 0.208 at 1.55 cm against 0.018-0.030 from 1.6 to 3 cm, and its f^n minimum (the co-design's optimum) sits
 on these two points, because f^n = m/m0 + |0.9 - J_c| rewards a larger J_c. This script reruns the same cold syntheses
 (all gains at -1, default scenario set, one thread), by the dense path and by the fast one (``fast=True``, whose final
@@ -92,7 +92,7 @@ def main() -> None:
     parser.add_argument("--processes", type=int, default=2)
     parser.add_argument("--active-set", action="store_true", help="record the active set of every LP")
     args = parser.parse_args()
-    grid = json.loads((ROOT / "data" / "results" / "07_grid.json").read_text())
+    grid = json.loads((ROOT / "data" / "results" / "box" / "07_grid.json").read_text())
     stored = {round(r["h"], 7): r for r in grid["records"]}
     jobs = [(h, tol, path, args.active_set) for h in args.h for tol in args.tols for path in args.paths]
     with ProcessPoolExecutor(args.processes) as pool:

@@ -1,7 +1,8 @@
 """Print the reproduction summary of README.md (a Markdown table) from the stored results JSON.
 
 Every number of "This toolkit" is read from ``data/results/*.json`` (written by the notebooks) or
-``benchmarks/results/codesign_fast.json`` and ``codesign_fast_rerun.json`` (the co-design by the fast path); the paper's numbers come from the same files where the notebooks stored
+``data/results/box/`` (notebook 07 with the box trust region alone) and ``benchmarks/results/codesign_fast.json`` (the
+same by the fast path); the paper's numbers come from the same files where the notebooks stored
 them, else from the constants below (with the paper's section). ``tests/test_readme_summary.py`` fails when the
 README's table is not this script's output, so the table cannot drift from the stored results.
 
@@ -19,17 +20,32 @@ PAPER_ORDER_G, PAPER_SLOW_POLES, PAPER_ORDER_G_R = 1324, 540, 178
 PAPER_CODESIGN_TIME = "11 h 16 min on 24 cores"
 
 
-def _load(root: Path, name: str) -> dict:
+def _load(root: Path, name: str, whole: bool = False) -> dict:
     path = root / "data" / "results" / f"{name}.json"
     if not path.is_file():
         raise FileNotFoundError(f"{path} is missing: run notebook {name[:2]} first (bash scripts/run_notebooks.sh)")
-    return json.loads(path.read_text())["results"]
+    stored = json.loads(path.read_text())
+    return stored if whole else stored["results"]
+
+
+def _box_run(root: Path) -> dict | None:
+    """Notebook 07's results with the box trust region alone and the dense path (``data/results/box/``), if kept."""
+    path = root / "data" / "results" / "box" / "07_pso_codesign.json"
+    return json.loads(path.read_text())["results"] if path.is_file() else None
+
+
+def _how(parameters: dict) -> str:
+    """How notebook 07's stored run synthesised: its path and trust region (older runs record neither: dense, box)."""
+    return (("fast path" if parameters.get("fast_synthesis") else "dense path") + ", "
+            + str(parameters.get("trust_region", "box")) + " trust region")
 
 
 def rows(root: Path) -> list[tuple[str, str, str, str]]:
     """``(quantity, paper, this toolkit, notebook)`` rows of the summary."""
     r3, r4, r5 = _load(root, "03_cube_vs_nastran"), _load(root, "04_t_truss_spacecraft"), _load(root, "05_lft_reduction")
-    r6, r7, r8 = _load(root, "06_robust_synthesis"), _load(root, "07_pso_codesign"), _load(root, "08_worst_case_mu")
+    r6, r8 = _load(root, "06_robust_synthesis"), _load(root, "08_worst_case_mu")
+    f7 = _load(root, "07_pso_codesign", whole=True)
+    r7, how, box = f7["results"], _how(f7["parameters"]), _box_run(root)
     err = r3["mean_relative_error_vs_nastran"]
     occ, occ_p = r5["occurrences"], r5["paper_occurrences"]
     names = ("M_SC", "Iyy_SC", "omega1_SP", "tau", "h")
@@ -39,10 +55,8 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
     table, paper, td, st = r8["table"], r8["paper"], r8["time_domain"], r6["settings"]
     preset = r7["preset"]
     t30 = next(r for r in r6["sensitivity"] if r["variant"] == "t_delta_30ms")
-    fast = root / "benchmarks" / "results" / "codesign_fast.json"
+    fast = root / "benchmarks" / "results" / "codesign_fast.json"  # the box trust region alone, fast path
     fast_min = json.loads(fast.read_text())["wall_time_min"] if fast.is_file() else None
-    rerun_path = root / "benchmarks" / "results" / "codesign_fast_rerun.json"
-    rerun = json.loads(rerun_path.read_text()) if rerun_path.is_file() else None
 
     def mu(group: str, src: dict, suffix: str = "") -> str:
         t = src[group + suffix]
@@ -70,17 +84,19 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
         ("Co-design optimum: h / truss mass / change from m0 / J_c",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
          f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / "
-         f"{opt['J_c']:.3f}", "07"),
+         f"{opt['J_c']:.3f} ({how})"
+         + (f"; the box trust region alone: {100 * box['optimum']['h']:.3f} cm, J_c {box['optimum']['J_c']:.3f} (a stalled synthesis)"
+            if box else ""), "07"),
         (f"Co-design with that preset ({preset['n_particles']} x {preset['n_iterations']} swarm): h / truss mass / J_c", "-",
          f"{100 * preset['best']['h']:.3f} cm / {preset['best']['mass']:.2f} kg / {preset['best']['J_c']:.3f}", "07"),
         ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %)", "-",
-         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at "
-         f"{100 * r7['grid_minimum']['h']:.2f} cm)"
-         + (f"; {100 * (rerun['best']['f'] / r7['grid_minimum']['f'] - 1):+.2f} % in a rerun by the fast path" if rerun else ""),
-         "07"),
+         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at {100 * r7['grid_minimum']['h']:.2f} cm)"
+         + (f"; the box trust region alone: {100 * box['pso_vs_grid']:+.2f} % (grid minimum {box['grid_minimum']['f']:.4f} at "
+            f"{100 * box['grid_minimum']['h']:.2f} cm)" if box else ""), "07"),
         ("Co-design 24 x 20: wall time", PAPER_CODESIGN_TIME,
-         f"{r7['run_time_s'] / 60:.1f} min (stored run)" + (f", {fast_min:.1f} min by the fast path" if fast_min else "")
-         + (f" ({rerun['wall_time_min']:.1f} min in its rerun)" if rerun else "") + " on 2 cores", "07"),
+         f"{r7['run_time_s'] / 60:.1f} min (stored run)"
+         + (f"; the box trust region alone: {box['run_time_s'] / 60:.1f} min" if box else "")
+         + (f", {fast_min:.1f} min by the fast path" if fast_min else "") + " on 2 cores", "07"),
         ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),

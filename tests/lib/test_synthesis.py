@@ -555,11 +555,11 @@ def test_scenario_from_vector_clips_to_the_box():
 
 # ---- the stabilisation phase (session of 2026-12-03, sixth: no unit test reached it before; notebooks 06/07 only)
 def _grid_gain(h: float) -> np.ndarray:
-    """The stored co-design grid's robust gain at section side ``h`` [m] (data/results/07_grid.json)."""
+    """The stored co-design grid's robust gain at section side ``h`` [m] (data/results/box/07_grid.json)."""
     import json
     from pathlib import Path
 
-    grid = json.loads((Path(__file__).parents[2] / "data" / "results" / "07_grid.json").read_text())
+    grid = json.loads((Path(__file__).parents[2] / "data" / "results" / "box" / "07_grid.json").read_text())
     return np.array(next(r["gain"] for r in grid["records"] if abs(r["h"] - h) < 1e-9 and r["status"] == "ok"))
 
 
