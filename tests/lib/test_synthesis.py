@@ -524,6 +524,48 @@ def test_ball_trust_region_keeps_an_interior_optimum_and_the_elastic_rows():
     assert np.allclose([d[0], t, s], [-0.25, -0.25, 0.75], atol=1e-6)
 
 
+
+def _socp_by_cvxpy(objective, constraints, radius, soft, penalty):
+    """The ball step written in cvxpy, the way it was solved until 2026-12-05: the reference of the direct cone program."""
+    import cvxpy as cp
+
+    n = radius.size
+    d, t, s = cp.Variable(n), cp.Variable(), cp.Variable(nonneg=True)
+    cons = [cp.norm(cp.multiply(1.0 / radius, d), 2) <= synthesis._BALL * np.sqrt(n), cp.abs(d) <= radius]
+    cons += [f + g @ d <= t for f, g in objective] + [c + h @ d <= b for c, h, b in constraints]
+    cons += [c + h @ d <= b + s for c, h, b in soft] if soft else [s == 0]
+    prob = cp.Problem(cp.Minimize(t + penalty * s), cons)
+    prob.solve(solver=cp.CLARABEL)
+    return None if prob.status != cp.OPTIMAL else (d.value, float(t.value), float(s.value))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_ball_step_equals_the_cvxpy_formulation(seed):
+    """The ball step, a cone program given to Clarabel directly, against the same program written in cvxpy, on random
+    problems of the synthesis's size (32 gains, 5-40 peak rows, hard and elastic rows, radii spread over two decades):
+    the same optimum; with elastic rows that cannot hold (seeds 1, 5) the same slack; both infeasible where a hard row
+    cannot hold (seeds 2, 6)."""
+    rng = np.random.default_rng(seed)
+    n, case = 32, seed % 4
+    radius = 10.0 ** rng.uniform(-1, 1, n)
+    objective = [(rng.normal(), rng.normal(size=n)) for _ in range(rng.integers(5, 40))]
+    constraints = [(rng.normal(), rng.normal(size=n), rng.uniform(-0.5, 2.0)) for _ in range(rng.integers(0, 6))]
+    constraints += [(0.0, rng.normal(size=n), -1e4)] if case == 2 else []  # |h d| <= sum |h| r < 1e4: cannot hold
+    soft = [(rng.normal(), rng.normal(size=n), -1e3 if case == 1 else rng.uniform(0.0, 1.0)) for _ in range(case % 2 + case // 3)]
+    penalty = 10.0 if soft else 0.0
+    got = synthesis._lp(objective, constraints, radius, soft, penalty, shape="ball")
+    ref = _socp_by_cvxpy(objective, constraints, radius, soft, penalty)
+    assert (got is None) == (ref is None) == (case == 2)
+    if case == 1:
+        assert got[2] > 100.0  # the slack is taken
+    if ref is not None:
+        assert got[1] + penalty * got[2] == pytest.approx(ref[1] + penalty * ref[2], rel=1e-6, abs=1e-7)
+        assert np.allclose(got[0], ref[0], rtol=1e-4, atol=1e-5 * radius.max())
+        # feasible to the interior-point method's tolerance (3e-7 relative seen, with a slack of 1e3 in the problem)
+        assert np.linalg.norm(got[0] / radius) <= synthesis._BALL * np.sqrt(n) * (1 + 1e-6)
+        assert np.all(np.abs(got[0]) <= radius * (1 + 1e-6))
+
+
 def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
     """min t s.t. f_j + g_j d <= t, |d| <= r, by hand: t = max(2 - d, d) is least at d = 1 (t = 1) inside r = 5, at the
     trust-region edge d = 0.5 (t = 1.5) for r = 0.5; t may be negative (the objective has no lower bound)."""
