@@ -60,8 +60,7 @@ def main() -> None:
     args = parser.parse_args()
     suffix = _suffix(args.fast, args.rule, args.trust_region)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
-    extra = {**({"fast": True} if args.fast else {}), **({"trust_region": "ball"} if args.trust_region == "ball" else {})}
-    options = {**codesign.SYNTHESIS_OPTIONS, **extra} if extra else None  # None: the default, as the stored runs
+    options = codesign.synthesis_options(args.fast, args.trust_region)
     if args.report:
         from lib import pso
 

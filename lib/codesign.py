@@ -32,7 +32,7 @@ from .closedloop import LoopSettings
 from .results import normalise_key, read_keyed, write_json
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
@@ -44,6 +44,14 @@ JC_LIMIT = 2.0
 # f^n little: measured by benchmarks/robust_synthesis.py on a cold start at 2.5 cm, J_c 0.01871 with the default rule
 # and 0.01930 with this one (f^n 0.04 % apart), in 101 iterations instead of 145 (41.7 s instead of 55.6 s).
 SYNTHESIS_OPTIONS: dict[str, Any] = {"tol": 1e-2}
+
+
+def synthesis_options(fast: bool = False, trust_region: str = "box") -> dict[str, Any] | None:
+    """The co-design's synthesis options with the fast path and/or a trust-region shape: :data:`SYNTHESIS_OPTIONS`
+    plus what differs from the synthesis defaults, or None when nothing does (the options the box-only runs were
+    stored with, so that their checkpoints and caches keep matching)."""
+    extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {})}
+    return {**SYNTHESIS_OPTIONS, **extra} if extra else None
 
 
 def objective_value(mass: float, j_c: float, m0: float) -> float:

@@ -702,6 +702,16 @@ def _linearise(plants, state: _State, group: str, band: float,
 _BALL = 0.5
 
 
+def _step_rows(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[float, NDArray, float]],
+               soft: Sequence[tuple[float, NDArray, float]]) -> tuple[list[NDArray], list[float]]:
+    """Rows ``a x <= b`` of a step's program in ``x = (d, t, s)``: peaks ``f + g d - t <= 0``, hard ``c + h d <= bound``,
+    elastic ``c + h d - s <= bound`` (the trust region's bounds on ``d`` and ``s`` apart)."""
+    a = ([np.r_[g, -1.0, 0.0] for _, g in objective] + [np.r_[h.ravel(), 0.0, 0.0] for _, h, _ in constraints]
+         + [np.r_[h.ravel(), 0.0, -1.0] for _, h, _ in soft])
+    b = [-f for f, _ in objective] + [bound - c for c, _, bound in constraints] + [bound - c for c, _, bound in soft]
+    return a, b
+
+
 def _lp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray,
         soft: Sequence[tuple[float, NDArray, float]] = (), penalty: float = 0.0,
         shape: str = "box") -> tuple[NDArray, float, float] | None:
@@ -709,14 +719,12 @@ def _lp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[
     ``c_l + h_l d <= bound_l + s`` (soft, elastic), ``s >= 0``, ``|d| <= radius``. Returns ``(d, t, s)``, or None
     if the LP has no solution (the hard constraints cannot be met in the trust region).
 
-    ``shape="ball"`` adds ``||d / radius||_2 <= 0.5 sqrt(n)``: a second-order cone program (cvxpy, Clarabel), whose
+    ``shape="ball"`` adds ``||d / radius||_2 <= 0.5 sqrt(n)``: a second-order cone program (Clarabel), whose
     solution is not pushed into a corner of the box (see :func:`synthesize`, ``trust_region``)."""
     if shape == "ball":
         return _socp(objective, constraints, radius, soft, penalty)
     n = radius.size
-    a_ub = ([np.r_[g, -1.0, 0.0] for _, g in objective] + [np.r_[h.ravel(), 0.0, 0.0] for _, h, _ in constraints]
-            + [np.r_[h.ravel(), 0.0, -1.0] for _, h, _ in soft])
-    b_ub = [-f for f, _ in objective] + [bound - c for c, _, bound in constraints] + [bound - c for c, _, bound in soft]
+    a_ub, b_ub = _step_rows(objective, constraints, soft)
     s_max = None if soft else 0.0
     res = linprog(np.r_[np.zeros(n), 1.0, penalty], A_ub=np.array(a_ub), b_ub=np.array(b_ub),
                   bounds=[(-r, r) for r in radius] + [(None, None), (0.0, s_max)], method="highs")
@@ -734,21 +742,18 @@ def _socp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tupl
     from scipy import sparse
 
     n = radius.size
-    # x = (d, t, s); rows: peaks f + g d - t <= 0, hard c + h d <= b, elastic c + h d - s <= b, -s <= 0, |d| <= r
-    rows = ([np.r_[g, -1.0, 0.0] for _, g in objective] + [np.r_[h.ravel(), 0.0, 0.0] for _, h, _ in constraints]
-            + [np.r_[h.ravel(), 0.0, -1.0] for _, h, _ in soft] + [np.r_[np.zeros(n + 1), -1.0]])
-    rhs = [-f for f, _ in objective] + [b - c for c, _, b in constraints] + [b - c for c, _, b in soft] + [0.0]
+    # x = (d, t, s): the step's rows, then -s <= 0 and |d| <= r (nonnegative cone)
+    rows, rhs = _step_rows(objective, constraints, soft)
     eye = np.eye(n, n + 2)
-    a_lin = np.vstack([np.array(rows), eye, -eye])
-    b_lin = np.r_[rhs, radius, radius]
+    a_lin = np.vstack([*rows, np.r_[np.zeros(n + 1), -1.0], eye, -eye])
+    b_lin = np.r_[rhs, 0.0, radius, radius]
     # the ball: z = (R, d_1 / r_1, ..., d_n / r_n) in the second-order cone
     a_soc = np.vstack([np.zeros(n + 2), -eye / radius[:, None]])
     b_soc = np.r_[_BALL * np.sqrt(n), np.zeros(n)]
-    a_zero, b_zero = ([] if soft else [np.r_[np.zeros(n + 1), 1.0]]), ([] if soft else [0.0])  # s = 0 without elastic rows
-    a = sparse.csc_matrix(np.vstack([*a_zero, a_lin, a_soc]) if a_zero else np.vstack([a_lin, a_soc]))
-    b = np.r_[b_zero, b_lin, b_soc]
-    cones = ([clarabel.ZeroConeT(1)] if not soft else []) + [clarabel.NonnegativeConeT(a_lin.shape[0]),
-                                                             clarabel.SecondOrderConeT(n + 1)]
+    zero = [] if soft else [np.r_[np.zeros(n + 1), 1.0]]  # s = 0 without elastic rows (zero cone)
+    a = sparse.csc_matrix(np.vstack([*zero, a_lin, a_soc]))
+    b = np.r_[np.zeros(len(zero)), b_lin, b_soc]
+    cones = [clarabel.ZeroConeT(1)] * len(zero) + [clarabel.NonnegativeConeT(a_lin.shape[0]), clarabel.SecondOrderConeT(n + 1)]
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     solution = clarabel.DefaultSolver(sparse.csc_matrix((n + 2, n + 2)), np.r_[np.zeros(n), 1.0, penalty], a, b, cones,
@@ -833,7 +838,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     trust_region : {"box", "ball"}
         Region of each step: the box ``|d_i| <= r_i`` on the gain entries (default: each step a linear program; every
         stored result) or that box intersected with the ball ``||d / r||_2 <= sqrt(32) / 2`` (a second-order cone program,
-        cvxpy). In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
+        Clarabel). In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
         of the 32 entries on its faces) while 6-10 pole-damping rows are active, and the synthesis can crawl for dozens
         of steps and stop on that plateau (``benchmarks/thin_end_plateau.py``). Measured (``benchmarks/trust_region.py``,
         fast path, 8 cases): the ball takes the two such stalls (J_c 0.164 at 1.5 cm with ``tol = 0.01``, 0.181 at

@@ -253,6 +253,14 @@ def test_codesign_refuses_a_checkpoint_of_another_objective_and_normalises_optio
                           synthesis_options=dict(codesign.SYNTHESIS_OPTIONS))  # None means the default options
 
 
+def test_synthesis_options_keep_the_stored_runs_keys():
+    """None for the synthesis defaults (the key of the box-only runs' checkpoints and caches), else the co-design's
+    options plus only what differs: the keys the stored ball run and the benchmarks were written with."""
+    assert codesign.synthesis_options() is None
+    assert codesign.synthesis_options(fast=True) == {"tol": 1e-2, "fast": True}
+    assert codesign.synthesis_options(True, "ball") == {"tol": 1e-2, "fast": True, "trust_region": "ball"}
+    assert codesign.synthesis_options(trust_region="ball") == {"tol": 1e-2, "trust_region": "ball"}
+
 
 def test_default_settings_given_or_not_are_the_same_objective(tmp_path, monkeypatch):
     """``settings=None`` is what the synthesis then takes, the data file's settings: a run started with None resumes with
