@@ -29,7 +29,9 @@ of P1 through static gains, and every transfer is finite at s = 0.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, fields, replace
+from functools import lru_cache
 from typing import cast
 
 import numpy as np
@@ -149,6 +151,18 @@ def acs_gains(inertia: ArrayLike, settings: LoopSettings) -> tuple[NDArray, NDAr
 
 def _blkdiag_siso(mats: tuple[NDArray, NDArray, NDArray, NDArray], k: int) -> tuple[NDArray, ...]:
     return tuple(linalg.block_diag(*([m] * k)) for m in mats)
+
+
+@lru_cache(maxsize=32)
+def _filter_blocks(omega_pma: float, xi_pma: float, t_delta: float, eps_max: float) -> tuple[tuple[NDArray, ...], tuple[NDArray, ...]]:
+    """``F_PMA`` on the 4 commands and ``F_RPE`` on the 2 LOS angles, block-diagonal state-space (read-only, cached: the
+    same for every plant of a study, and a third of the cost of :func:`generalized_plant` to rebuild each time)."""
+    settings = LoopSettings(omega_pma=omega_pma, xi_pma=xi_pma, t_delta=t_delta, eps_max=eps_max)
+    blocks = (_blkdiag_siso(pma_filter(settings), 4), _blkdiag_siso(rpe_weight(settings), 2))
+    for mats in blocks:
+        for m in mats:
+            m.setflags(write=False)
+    return blocks
 
 
 @dataclass
@@ -345,17 +359,23 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
     stroke = rows([f"x_PMA{i}" for i in range(1, 5)])
     b_s = b[:, ins]
     # Rigid part of the position-level outputs and its minimal realisation (double integrators).
-    a_inv_b = np.linalg.solve(a, b_s)
+    # one LU of A for A^-1 B, C A^-1 and C A^-2 (the worst-case search builds a plant per evaluation)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", linalg.LinAlgWarning)  # an exact zero pivot: the ValueError below says it
+        lu = linalg.lu_factor(a, check_finite=False)
+    if np.any(np.diag(lu[0]) == 0):
+        raise ValueError("A is singular (a pole at s = 0): remove the spurious slow poles first (lib.reduction.modal_reduction)")
+    a_inv_b = linalg.lu_solve(lu, b_s, check_finite=False)
+    c_pos1 = linalg.lu_solve(lu, c[pos].T, trans=1, check_finite=False).T  # C A^-1
+    c_pos2 = linalg.lu_solve(lu, c_pos1.T, trans=1, check_finite=False).T  # C A^-2
     g0 = d[np.ix_(pos, ins)] - c[pos] @ a_inv_b
-    g1 = -c[pos] @ np.linalg.solve(a, a_inv_b)
+    g1 = -c_pos2 @ b_s
     u_, sv, vt = np.linalg.svd(g0)
     if not sv[0] > 0:
         raise ValueError("the model has no rigid part (G_0 = D - C A^-1 B is zero on the LOS and P1 rotations): the ACS "
                          "needs a free spacecraft model")
     r = int(np.sum(sv > rank_rtol * sv[0]))
     dropped = {"rank": float(sv[r] / sv[0]) if r < sv.size else 0.0, "g1": float(np.linalg.norm(g1, 2) / sv[0])}
-    c_pos2 = np.linalg.solve(a.T, np.linalg.solve(a.T, c[pos].T)).T  # C A^-2
-    c_pos1 = np.linalg.solve(a.T, c[pos].T).T  # C A^-1
     p1 = slice(2, 5)
     n_rows = len(acc) + 5 + 3 + (8 if transmitted else 0)
     # Structure block S: states [x; q; v], inputs [w, p, W_rot, u], outputs [z, y, theta_LOS, theta_P1, omega_P1 (, x, x')].
@@ -381,8 +401,7 @@ def generalized_plant(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, in
         cc[na + 12 : na + 16, :n] = c[stroke] @ a
         dd[na + 12 : na + 16] = c[stroke] @ b_s
     # Filters: F_PMA on the 4 commands, F_RPE on the 2 LOS angles.
-    fa, fb, fc, fd = _blkdiag_siso(pma_filter(settings), 4)
-    wa, wb, wc, wd = _blkdiag_siso(rpe_weight(settings), 2)
+    (fa, fb, fc, fd), (wa, wb, wc, wd) = _filter_blocks(settings.omega_pma, settings.xi_pma, settings.t_delta, settings.eps_max)
     big_a = linalg.block_diag(a_s, fa, wa)
     big_b = linalg.block_diag(bb, fb, wb)
     big_c = linalg.block_diag(cc, fc, wc)
