@@ -415,7 +415,7 @@ def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     ("max_iter", 0, ValueError), ("max_rounds", 2.5, TypeError), ("tol", 0.0, ValueError), ("band", 1.5, ValueError),
     ("margin", 1.0, ValueError), ("min_damping_all", -1e-4, ValueError), ("search_damping", 2.0, ValueError),
     ("radius0", float("nan"), ValueError), ("workers", 0, ValueError), ("min_decay", "1e-7", TypeError),
-    ("trust_region", "sphere", ValueError), ("trust_region", None, ValueError)])
+    ("trust_region", "sphere", ValueError), ("trust_region", None, ValueError), ("restoration", "smallest", ValueError)])
 def test_synthesis_options_are_checked_before_any_work(option, value, error):
     """A bad option is named with its allowed range before any model is touched (the model here is not even one)."""
     with pytest.raises(error, match=option):
@@ -639,22 +639,28 @@ def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
     assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
 
 
-@pytest.mark.parametrize("shape", ["box", "ball"])
-def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, inertia, shape):
+@pytest.mark.parametrize("shape, restoration", [("box", "minmax"), ("ball", "minmax"), ("ball", "least_change")])
+def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, inertia, shape, restoration):
     """From an effort-infeasible start (3 x the 2.1 cm grid gain at 2.139 cm, stabilised: Z = 8.24, measured) the
     optimiser first lowers the worst effort peak at every accepted step until Z < gamma_u, then lowers the merit
     with Z kept below gamma_u, and stops by its own tests (not the iteration limit). The final J and Z are those of
-    the certified H-infinity norms of the two closed loops (Hamiltonian method) to 1e-6: the peaks it optimised are
-    the true norms, not grid values. The same with either trust region (from the same start, stabilised in the box),
-    except the norm check for the ball: in one environment (fresh clone, two xdist workers) it ended at a gain whose
-    refined peak is 1.04e-6 below the Hamiltonian norm (0.014085351 against 0.014085366), so it is held to the
-    issue's 1e-4 there, not to 1e-6."""
+    the true norms, not grid values: at the frequency where the certified H-infinity norm (Hamiltonian method) of each
+    closed loop peaks, sigma_max by a direct solve is not above the loop's optimised peak by more than the 1e-6 to which
+    :func:`lib.synthesis.loop_peaks` checks its top peak against a direct solve (a peak the optimiser missed would be;
+    measured: 1.0e-7 with the ball), and the norm is the optimised value to the issue's 1e-4. The same with either trust region (from the
+    same start, stabilised in the box), and with least-change restoration steps, whose feasibility phase lasts until Z
+    is below the margin bound ``gamma_u (1 - margin)`` they aim at.
+
+    The norms are not held to 1e-6: the optimiser equalises peaks (here 0.0146383234 at 4.37 and 75.68 rad/s, equal to
+    4e-10 by direct solves, gains up to 1.5e4) and there the independent methods themselves spread by more: measured on
+    one such end gain, the balanced Hamiltonian bisection gave 3.1e-6 above the direct-solve maximum, the unbalanced one
+    1e-7, SLICOT's ab13dd 8.4e-6 (the ball, in one environment, ended 1.04e-6 below the Hamiltonian norm)."""
     scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
     plants = [plant_at(model, s, inertia, ST) for s in scs]
     prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4)
     start = synthesis._stabilise(prob, prob.evaluate_all(3.0 * _grid_gain(0.021)))
     assert start.stable() and start.value("effort") > 2.0 * ST.gamma_u
-    prob.trust_region = shape
+    prob.trust_region, prob.restoration = shape, restoration
     n_stab = len(prob.history)
     end, at_limit = synthesis._optimise(prob, start)
     steps = prob.history[n_stab:]
@@ -663,14 +669,20 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
     assert n_feas >= 1 and phases == ["feasibility"] * n_feas + ["optimise"] * (len(steps) - n_feas)
     z_feas = [start.value("effort")] + [s["Z"] for s in steps[:n_feas]]
     assert np.all(np.diff(z_feas) < 0)
-    assert z_feas[-1] < ST.gamma_u and all(s["Z"] < ST.gamma_u for s in steps[n_feas:])
+    assert z_feas[-1] < ST.gamma_u * (1 - 0.02 if restoration == "least_change" else 1) and all(s["Z"] < ST.gamma_u for s in steps[n_feas:])
     assert end.value("rpe") < steps[n_feas]["J"]  # the optimisation phase improved on its first feasible point
     assert not at_limit and prob.iterations < n_stab + 60
     assert end.stable() and end.value("effort") < ST.gamma_u
     exact = [synthesis.exact_norms(p, end.gain) for p in plants]
     for group in ("rpe", "effort"):
         assert all(e[group][2] for e in exact)
-        assert max(e[group][0] for e in exact) == pytest.approx(end.value(group), rel=1e-6 if shape == "box" else 1e-4)
+        assert max(e[group][0] for e in exact) == pytest.approx(end.value(group), rel=1e-4)
+        for p, e, lp in zip(plants, exact, end.peaks):
+            a, b, c, d = p.closed_loop(end.gain)
+            sl = p.slices()
+            w = e[group][1]
+            t = d[sl[group], sl["p"]] + c[sl[group]] @ np.linalg.solve(1j * w * np.eye(a.shape[0]) - a, b[:, sl["p"]])
+            assert np.linalg.svd(t, compute_uv=False)[0] <= lp.norm(group) * (1 + 1e-6)  # loop_peaks's direct-check tolerance
 
 
 def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkeypatch):
@@ -686,3 +698,85 @@ def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkey
     synthesis.synthesize(model, inertia, ST, gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], max_iter=3, max_rounds=1,
                          search_thetas_deg=[0.0], workers=1, trust_region="ball")
     assert len(shapes) >= 3 and set(shapes) == {"ball"}
+
+
+@pytest.mark.parametrize("fast", [False, True])
+def test_extend_evaluates_only_the_added_plants_and_equals_a_full_evaluation(model, inertia, fast):
+    """A round after the first starts from the last state (at its gain) with only the scenarios the search added still
+    to evaluate: the extended state must hold the same peaks, margins and stability-only plants as an evaluation of the
+    whole set at that gain, and count only the new plants' evaluations."""
+    scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)), Scenario(0.3, 0.2, -1.0, 1.0)]
+    plants = [plant_at(model, s, inertia, ST) for s in scs]
+    checks = [plant_at(model, Scenario(), inertia, ST)]
+    prob = synthesis._Problem(plants[:2], checks, map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4,
+                              fast=fast)
+    gain = -np.ones((4, 8))
+    first = prob.evaluate_all(gain)
+    assert first.stable() and all(x is not None for x in first.extra)
+    prob.plants += plants[2:]
+    n = prob.evaluations
+    ext = prob.extend(first)
+    assert prob.evaluations == n + 1 and len(ext.peaks) == 3 and np.array_equal(ext.gain, gain)
+    full = synthesis._Problem(plants, checks, map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4,
+                              fast=fast).evaluate_all(gain)
+    for group in ("rpe", "effort"):
+        assert ext.value(group) == pytest.approx(full.value(group), rel=1e-9)
+        for a, b in zip(ext.peaks, full.peaks):
+            assert a.norm(group) == pytest.approx(b.norm(group), rel=1e-9)
+    assert ext.stable() == full.stable() and ext.abscissa() == pytest.approx(full.abscissa(), rel=1e-9)
+    assert [x.margin for x in ext.extra] == pytest.approx([x.margin for x in full.extra], rel=1e-9)
+    assert prob.extend(ext) is ext  # nothing added: nothing evaluated
+
+
+def test_least_change_step_is_the_scaled_projection_onto_the_violated_constraint():
+    """One violated constraint ``c + h d <= b``: the smallest step in ``||d / r||_2`` is ``-(c - b) R^2 h / (h^T R^2 h)``
+    (``R = diag(r)``, closed form), a satisfied constraint leaves it unchanged, and when the box cannot reach the bound
+    there is no step (None)."""
+    rng = np.random.default_rng(3)
+    r = rng.uniform(0.5, 2.0, 6)
+    h = rng.normal(size=6)
+    c, b = 1.0, 0.2
+    d = synthesis._least_change([(c, h, b), (0.0, rng.normal(size=6), 10.0)], r)
+    expected = -(c - b) * r**2 * h / np.sum(r**2 * h**2)
+    assert np.all(np.abs(expected) < r)  # the closed form is inside the box (else it would not be the answer)
+    np.testing.assert_allclose(d, expected, rtol=1e-6, atol=1e-8)
+    assert synthesis._least_change([(c, 1e-3 * h, b)], r) is None  # the bound is out of the box's reach
+    np.testing.assert_allclose(synthesis._least_change([(0.0, h, 1.0)], r), 0.0, atol=1e-8)
+
+
+def test_least_change_restoration_moves_the_gain_less_than_the_min_max_step(model, inertia):
+    """The warm start of the stabilisation test (the 2.1 cm grid gain at 2.139 cm, a pole with a positive margin 0.149
+    1/s): both restorations end stable, the least-change one with a smaller change of the gain (scaled by the trust
+    radius) and an abscissa nearer its target (measured: 0.25 against 1.35, -4.0e-4 against -6.3e-3 1/s, in 1 step
+    against 2). Not a lower J: the step ignores J (0.0283 against 0.0209 here), which the optimiser then lowers."""
+    scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
+    plants = [plant_at(model, s, inertia, ST) for s in scs]
+    gain = _grid_gain(0.021)
+    ends = {}
+    for mode in ("minmax", "least_change"):
+        prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4,
+                                  restoration=mode)
+        start = prob.evaluate_all(gain)
+        assert not start.stable()
+        ends[mode] = synthesis._stabilise(prob, start)
+        assert ends[mode].stable()
+    size = {m: np.linalg.norm((e.gain - gain).ravel() / synthesis._Problem.radius(prob, gain)) for m, e in ends.items()}
+    assert size["least_change"] < 0.5 * size["minmax"]
+    assert ends["minmax"].abscissa() < ends["least_change"].abscissa() < -1e-7
+
+
+def test_synthesize_passes_its_restoration_to_the_problem(model, inertia, monkeypatch):
+    """``restoration="least_change"`` reaches the stabilisation: its QP is called (and never with the default)."""
+    calls: list[int] = []
+    least = synthesis._least_change
+
+    def recording(*args, **kwargs):
+        calls.append(1)
+        return least(*args, **kwargs)
+
+    monkeypatch.setattr(synthesis, "_least_change", recording)
+    kw = dict(gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], max_iter=3, max_rounds=1, search_thetas_deg=[0.0], workers=1)
+    synthesis.synthesize(model, inertia, ST, **kw)
+    assert not calls
+    synthesis.synthesize(model, inertia, ST, restoration="least_change", **kw)
+    assert calls

@@ -1,0 +1,109 @@
+"""Benchmark: the synthesis's restoration steps, min-max (the default) against least-change.
+
+``lib.synthesis.synthesize(restoration=...)``: when the gain must be made stable again (a warm start from another h,
+or a scenario a worst-case search added, unstable at the current gain) and then feasible (``Z < gamma_u``), the min-max
+step minimises the largest linearised pole margin (then the largest effort peak) in the trust region and so moves the
+gain to the region's edge; the least-change step is the smallest step whose linearised margins (then effort peaks) reach
+their targets. ``benchmarks/warm_start.py`` found one min-max stabilisation that took J from 0.018 to 0.071 and left the
+synthesis unconverged after 6 rounds (J_c 0.12), where the same warm start, perturbed at round-off, converged in 2 rounds
+(J_c 0.018).
+
+This script runs, with notebook 07's options (co-design tolerance, fast path, ball), both restorations on:
+
+* warm starts from designs of the stored co-design grid (``data/results/box/07_grid.json``, gain and scenario set) at
+  1.6, 1.9, 2.1, 2.4 and 2.8 cm to h + 0.039 cm (the 2.1 -> 2.139 cm step of the synthesis benchmark) and h + 0.1 cm;
+* cold starts (all gains at -1) at 1.5, 2.139 and 3 cm;
+
+one thread per synthesis, two syntheses at a time, and records J_c, Z_c, validity, iterations, searches and time.
+Prints a line per run and a summary and saves benchmarks/results/restoration.json.
+Run: python benchmarks/restoration.py [--processes 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+from _machine import machine_info  # noqa: E402
+from robust_synthesis import grid_design  # noqa: E402
+from lib import codesign, design, synthesis  # noqa: E402
+from lib.closedloop import LoopSettings  # noqa: E402
+
+ROOT = Path(__file__).parents[1]
+WARM_FROM = (0.016, 0.019, 0.021, 0.024, 0.028)
+STEPS = (0.00039, 0.001)
+COLD = (0.015, 0.02139, 0.03)
+MODES = ("minmax", "least_change")
+
+
+def _cases() -> list[tuple[str, float, float | None]]:
+    """(name, h [m], warm-start grid point h0 [m] or None for a cold start)."""
+    warm = [(f"warm {100 * h0:.1f} -> {100 * (h0 + dh):.3f} cm", h0 + dh, h0) for h0 in WARM_FROM for dh in STEPS]
+    return warm + [(f"cold {100 * h:.3f} cm", h, None) for h in COLD]
+
+
+def _run(job: tuple[str, float, float | None, str]) -> dict:
+    """One synthesis of a case with a restoration mode; its record."""
+    from threadpoolctl import threadpool_limits
+
+    name, h, h0, mode = job
+    settings = LoopSettings.from_parameters()
+    kw: dict = dict(codesign.synthesis_options(True, "ball") or {}, restoration=mode)
+    if h0 is not None:
+        rec, scen = grid_design(h0)
+        kw.update(gain0=rec["gain"], scenarios=scen)
+    with threadpool_limits(1):
+        models = design.models_at(h)
+        t0 = time.perf_counter()
+        res = design.robust_design(models, settings, workers=1, **kw)
+        wall = time.perf_counter() - t0
+    return {"case": name, "h": h, "warm_from": h0, "restoration": mode, "J_c": res.j_c, "Z_c": res.z_c, "success": res.success,
+            "message": res.message, "iterations": res.iterations, "searches": res.searches, "time_s": wall}
+
+
+def _summary(rows: list[dict], warm: bool) -> dict:
+    """Per mode over the warm (or cold) runs: valid runs, median and largest time, median J_c, worst J_c ratio to the
+    other mode's."""
+    out = {}
+    for mode in MODES:
+        mine = [r for r in rows if r["restoration"] == mode and (r["warm_from"] is not None) == warm]
+        out[mode] = {"runs": len(mine), "valid": sum(r["success"] for r in mine),
+                     "median_time_s": float(np.median([r["time_s"] for r in mine])), "max_time_s": max(r["time_s"] for r in mine),
+                     "under_10_s": sum(r["time_s"] < 10.0 for r in mine),
+                     "median_J_c": float(np.median([r["J_c"] for r in mine if r["success"]] or [np.inf])),
+                     "median_searches": float(np.median([r["searches"] for r in mine]))}
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--processes", type=int, default=2)
+    args = parser.parse_args()
+    jobs = [(*case, mode) for case in _cases() for mode in MODES]
+    with ProcessPoolExecutor(args.processes) as pool:
+        rows = list(pool.map(_run, jobs))
+    for row in rows:
+        print(f"{row['case']}, {row['restoration']}: J_c {row['J_c']:.5f}, Z_c {row['Z_c']:.4f}, valid {row['success']}, "
+              f"{row['iterations']} iterations, {row['searches']} searches, {row['time_s']:.1f} s")
+    summary = {"warm": _summary(rows, True), "cold": _summary(rows, False)}
+    for kind, per_mode in summary.items():
+        for mode, s in per_mode.items():
+            print(f"{kind}, {mode}: {s['valid']}/{s['runs']} valid, time median {s['median_time_s']:.1f} s (max {s['max_time_s']:.1f} s, "
+                  f"{s['under_10_s']} under 10 s), median searches {s['median_searches']:.0f}, median valid J_c {s['median_J_c']:.5f}")
+    out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "options": codesign.synthesis_options(True, "ball"),
+           "processes": args.processes, "rows": rows, "summary": summary}
+    path = ROOT / "benchmarks" / "results" / "restoration.json"
+    path.write_text(json.dumps(out, indent=1, default=float) + "\n")
+    print(f"saved {path}")
+
+
+if __name__ == "__main__":
+    main()
