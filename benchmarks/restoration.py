@@ -15,8 +15,11 @@ This script runs, with notebook 07's options (co-design tolerance, fast path, ba
 * cold starts (all gains at -1) at 1.5, 2.139 and 3 cm;
 
 one thread per synthesis, two syntheses at a time, and records J_c, Z_c, validity, iterations, searches and time.
+With ``--source ball`` the warm starts come from the stored co-design's grid (``data/results/07_grid.json``, computed
+with the ball) instead, ``--steps`` sets the steps [m] and ``--no-cold`` leaves the cold starts out (they do not depend
+on the source); the results then go to ``restoration_ball.json``.
 Prints a line per run and a summary and saves benchmarks/results/restoration.json.
-Run: python benchmarks/restoration.py [--processes 2]
+Run: python benchmarks/restoration.py [--processes 2] [--source {box,ball}] [--steps 0.00039 0.001] [--no-cold]
 """
 
 from __future__ import annotations
@@ -44,21 +47,22 @@ COLD = (0.015, 0.02139, 0.03)
 MODES = ("minmax", "least_change")
 
 
-def _cases() -> list[tuple[str, float, float | None]]:
-    """(name, h [m], warm-start grid point h0 [m] or None for a cold start)."""
-    warm = [(f"warm {100 * h0:.1f} -> {100 * (h0 + dh):.3f} cm", h0 + dh, h0) for h0 in WARM_FROM for dh in STEPS]
-    return warm + [(f"cold {100 * h:.3f} cm", h, None) for h in COLD]
+def _cases(steps: tuple[float, ...] = STEPS, cold: bool = True) -> list[tuple[str, float, float | None]]:
+    """(name, h [m], warm-start grid point h0 [m] or None for a cold start); steps past the design range (3 cm) left out."""
+    warm = [(f"warm {100 * h0:.1f} -> {100 * (h0 + dh):.3f} cm", h0 + dh, h0) for h0 in WARM_FROM for dh in steps
+            if h0 + dh <= 0.03 + 1e-12]
+    return warm + ([(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if cold else [])
 
 
-def _run(job: tuple[str, float, float | None, str]) -> dict:
-    """One synthesis of a case with a restoration mode; its record."""
+def _run(job: tuple[str, float, float | None, str, str]) -> dict:
+    """One synthesis of a case with a restoration mode, warm starts from a grid ``source``; its record."""
     from threadpoolctl import threadpool_limits
 
-    name, h, h0, mode = job
+    name, h, h0, mode, source = job
     settings = LoopSettings.from_parameters()
     kw: dict = dict(codesign.synthesis_options(True, "ball") or {}, restoration=mode)
     if h0 is not None:
-        rec, scen = grid_design(h0)
+        rec, scen = grid_design(h0, source)
         kw.update(gain0=rec["gain"], scenarios=scen)
     with threadpool_limits(1):
         models = design.models_at(h)
@@ -75,6 +79,8 @@ def _summary(rows: list[dict], warm: bool) -> dict:
     out = {}
     for mode in MODES:
         mine = [r for r in rows if r["restoration"] == mode and (r["warm_from"] is not None) == warm]
+        if not mine:
+            continue
         out[mode] = {"runs": len(mine), "valid": sum(r["success"] for r in mine),
                      "median_time_s": float(np.median([r["time_s"] for r in mine])), "max_time_s": max(r["time_s"] for r in mine),
                      "under_10_s": sum(r["time_s"] < 10.0 for r in mine),
@@ -86,21 +92,24 @@ def _summary(rows: list[dict], warm: bool) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--processes", type=int, default=2)
+    parser.add_argument("--source", choices=("box", "ball"), default="box")
+    parser.add_argument("--steps", type=float, nargs="+", default=list(STEPS))
+    parser.add_argument("--cold", action=argparse.BooleanOptionalAction, default=True)
     args = parser.parse_args()
-    jobs = [(*case, mode) for case in _cases() for mode in MODES]
+    jobs = [(*case, mode, args.source) for case in _cases(tuple(args.steps), args.cold) for mode in MODES]
     with ProcessPoolExecutor(args.processes) as pool:
         rows = list(pool.map(_run, jobs))
     for row in rows:
         print(f"{row['case']}, {row['restoration']}: J_c {row['J_c']:.5f}, Z_c {row['Z_c']:.4f}, valid {row['success']}, "
               f"{row['iterations']} iterations, {row['searches']} searches, {row['time_s']:.1f} s")
-    summary = {"warm": _summary(rows, True), "cold": _summary(rows, False)}
+    summary = {"warm": _summary(rows, True), "cold": _summary(rows, False) if args.cold else {}}
     for kind, per_mode in summary.items():
         for mode, s in per_mode.items():
             print(f"{kind}, {mode}: {s['valid']}/{s['runs']} valid, time median {s['median_time_s']:.1f} s (max {s['max_time_s']:.1f} s, "
                   f"{s['under_10_s']} under 10 s), median searches {s['median_searches']:.0f}, median valid J_c {s['median_J_c']:.5f}")
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "options": codesign.synthesis_options(True, "ball"),
-           "processes": args.processes, "rows": rows, "summary": summary}
-    path = ROOT / "benchmarks" / "results" / "restoration.json"
+           "processes": args.processes, "source": args.source, "steps": args.steps, "rows": rows, "summary": summary}
+    path = ROOT / "benchmarks" / "results" / ("restoration.json" if args.source == "box" else "restoration_ball.json")
     path.write_text(json.dumps(out, indent=1, default=float) + "\n")
     print(f"saved {path}")
 

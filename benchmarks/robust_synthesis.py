@@ -39,15 +39,21 @@ from lib import design, robustness  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
 
-def grid_design(h0: float) -> tuple[dict, list]:
-    """The co-design grid's design at ``h0`` [m] (data/results/box/07_grid.json): its record (gain, J_c, ...) and its final
-    scenario set, the warm start a co-design makes (notebook 07's Step 3)."""
+GRIDS = {"box": Path("data") / "results" / "box" / "07_grid.json", "ball": Path("data") / "results" / "07_grid.json"}
+
+
+def grid_design(h0: float, source: str = "box") -> tuple[dict, list]:
+    """The co-design grid's design at ``h0`` [m]: its record (gain, J_c, ...) and its final scenario set, the warm start a
+    co-design makes (notebook 07's Step 3). ``source``: the box-only grid (``data/results/box/07_grid.json``, default) or
+    the stored co-design's, with the ball (``data/results/07_grid.json``)."""
     from lib import synthesis
 
-    grid = json.loads((Path(__file__).parents[1] / "data" / "results" / "box" / "07_grid.json").read_text())
+    if source not in GRIDS:
+        raise ValueError(f"source must be one of {sorted(GRIDS)}, got {source!r}")
+    grid = json.loads((Path(__file__).parents[1] / GRIDS[source]).read_text())
     rec = next((r for r in grid["records"] if abs(r["h"] - h0) < 1e-9), None)
     if rec is None:
-        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid (data/results/box/07_grid.json)")
+        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid ({GRIDS[source]})")
     return rec, [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
 
 

@@ -764,9 +764,11 @@ def _socp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tupl
     return x[:n], float(x[n]), float(x[n + 1])
 
 
-def _least_change(constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray) -> NDArray | None:
-    """The smallest step ``d`` (in ``||d / radius||_2``) inside the box ``|d| <= radius`` with every linearised constraint
-    ``c + h d <= bound`` met: a quadratic program (Clarabel). None if no step in the box meets them all.
+def _least_change(constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray, ball: bool = False) -> NDArray | None:
+    """The smallest step ``d`` (in ``||d / radius||_2``) inside the box ``|d| <= radius`` (and, with ``ball``, the ball of
+    ``trust_region="ball"``) with every linearised constraint ``c + h d <= bound`` met: a quadratic program (Clarabel),
+    solved in the scaled step ``x = d / radius``. None if Clarabel does not solve it (no such step, or not to its
+    tolerance): the caller then takes the min-max step.
 
     The restoration step of ``restoration="least_change"`` (see :func:`synthesize`): it moves the gain only as far as the
     linearised constraints ask, where the min-max step goes to the edge of the trust region."""
@@ -775,15 +777,19 @@ def _least_change(constraints: Sequence[tuple[float, NDArray, float]], radius: N
 
     n = radius.size
     eye = np.eye(n)
-    a = np.vstack([*(h.ravel() for _, h, _ in constraints), eye, -eye])
-    b = np.r_[[bound - c for c, _, bound in constraints], radius, radius]
+    a = np.vstack([*(h.ravel() * radius for _, h, _ in constraints), eye, -eye])
+    b = np.r_[[bound - c for c, _, bound in constraints], np.ones(2 * n)]
+    cones = [clarabel.NonnegativeConeT(a.shape[0])]
+    if ball:  # (_BALL sqrt(n), x) in the second-order cone
+        a, b = np.vstack([a, np.zeros(n), -eye]), np.r_[b, _BALL * np.sqrt(n), np.zeros(n)]
+        cones.append(clarabel.SecondOrderConeT(n + 1))
     settings = clarabel.DefaultSettings()
     settings.verbose = False
-    solution = clarabel.DefaultSolver(sparse.diags(1.0 / radius**2, format="csc"), np.zeros(n), sparse.csc_matrix(a), b,
-                                      [clarabel.NonnegativeConeT(a.shape[0])], settings).solve()
+    solution = clarabel.DefaultSolver(sparse.identity(n, format="csc"), np.zeros(n), sparse.csc_matrix(a), b, cones,
+                                      settings).solve()
     if solution.status != clarabel.SolverStatus.Solved:
         return None
-    return np.asarray(solution.x, dtype=float)
+    return np.asarray(solution.x, dtype=float) * radius
 
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
@@ -871,8 +877,10 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         The steps that restore stability (a start, or a scenario a search added, unstable at the current gain) and then
         ``Z < gamma_u``. ``"minmax"`` (default: every stored result): minimise the largest linearised pole margin (then
         the largest effort peak) in the trust region, which moves the gain to the edge of the region. ``"least_change"``:
-        the smallest step (:func:`_least_change`) whose linearised margins reach their targets (then whose effort peaks
-        reach ``gamma_u (1 - margin)``), the min-max step only where no such step fits in the region. Measured
+        the smallest step (:func:`_least_change`, inside the trust region) whose linearised margins pass their targets by
+        a quarter of their violation, then whose effort peaks reach ``gamma_u (1 - margin)`` (this phase lasting until
+        ``Z < gamma_u (1 - margin / 2)``); the min-max step where no such step fits in the region, and for the rest of a
+        stabilisation once a least-change trial has failed (``benchmarks/restoration.py``). Measured
         (``benchmarks/warm_start.py``): one min-max step that stabilised a scenario the search added (abscissa 2.7e-3 to
         -5.0e-3 1/s, 5e4 times the required margin) took J from 0.018 to 0.071 and Z to 1.09, and the synthesis ended
         not converged with J_c 0.12 after 6 rounds.
@@ -1065,14 +1073,16 @@ class _Problem:
         """Linearised margins of the poles nearest their limit (stability plants; all plants if asked; with
         ``radius``, the trust region, those that could rise highest within it, see :meth:`_Eigen.rows`). Target
         ``T = -min_decay - 0.01 zeta_req |lambda|`` (a 1 % back-off): a pole below it may close half its distance
-        to it per step; one inside the back-off may not rise (with ``restore``: must reach ``T``, the bound of a
-        least-change restoration step). A constraint held exactly on its boundary (``value = -min_decay``) would be
+        to it per step; one inside the back-off may not rise (with ``restore``: must pass ``T`` by a quarter of its
+        distance to it, the bound of a least-change restoration step). A constraint held exactly on its boundary (``value = -min_decay``) would be
         crossed at second order by every step along it."""
         def rows(eig: _Eigen, n: int) -> list[tuple[float, NDArray, float]]:
             out = []
             for v, g, req in eig.rows(n, radius):
                 target = -self.min_decay - 0.01 * req
-                out.append((v, g, 0.5 * (v + target) if v <= target else (target if restore else v)))
+                # restoring, a violated margin must pass its target by a quarter of its violation (a step aimed exactly at
+                # the boundary ends on it, or above it at second order)
+                out.append((v, g, 0.5 * (v + target) if v <= target else (target - 0.25 * (v - target) if restore else v)))
             return out
 
         found = [r for lp in state.peaks for r in rows(lp.decomposition(), 6 if all_plants else 2)]
@@ -1102,13 +1112,15 @@ def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin
 def _stabilise(prob: _Problem, state: _State) -> _State:
     """Push the spectral abscissa of every plant below ``-min_decay`` (trust-region LP on eigenvalue gradients)."""
     radius = prob.radius(state.gain)
+    least = prob.restoration == "least_change"  # until a least-change trial fails: then min-max steps
     for _ in range(prob.max_iter):
         if state.stable() or np.all(radius < 1e-9):
             break
         prob.iterations += 1
-        least = prob.restoration == "least_change"
         found = prob.stability_rows(state, all_plants=True, radius=radius, restore=least)
-        step = _least_change(found, radius) if least else None
+        step = _least_change(found, radius, prob.trust_region == "ball") if least else None
+        if step is not None and not np.any(step):  # the linearised margins met already: the unstable pole is not among them
+            step, least = None, False
         if step is None:  # the min-max step (restoration="minmax", or no least-change step fits in the region)
             sol = _lp([(v, g.ravel()) for v, g, _ in found], [], radius, shape=prob.trust_region)
             if sol is None:
@@ -1120,7 +1132,7 @@ def _stabilise(prob: _Problem, state: _State) -> _State:
             state = trial
             prob.history.append(dict(phase="stabilise", abscissa=trial.abscissa()))
         else:
-            radius = radius / 4
+            radius, least = radius / 4, False
     return state
 
 
@@ -1133,11 +1145,12 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
     radius = prob.radius(state.gain)
     accepted: list[float] = []
     gamma = prob.gamma
-    # the feasibility phase lasts until Z < gamma_u; with least-change steps, until Z is below the margin bound they aim
-    # at: left just under gamma_u, the optimiser, which rejects every trial with Z >= gamma_u, is held to tiny steps
-    # (measured: J 0.168 with Z 0.99996 after a warm start 2.8 -> 2.9 cm, where the others reach 0.02)
-    restored = gamma * (1 - prob.margin) if prob.restoration == "least_change" else gamma
-    restoring = state.value("effort") >= gamma
+    # the feasibility phase lasts until Z < gamma_u; with least-change steps, which aim at the margin bound
+    # gamma_u (1 - margin), until Z < gamma_u (1 - margin / 2): left just under gamma_u, the optimiser, which rejects
+    # every trial with Z >= gamma_u, is held to tiny steps (measured: J 0.168 with Z 0.99996 after a warm start
+    # 2.8 -> 2.9 cm, where the others reach 0.02), and a phase that ended exactly at the bound aimed at would crawl to it
+    restored = gamma * (1 - 0.5 * prob.margin) if prob.restoration == "least_change" else gamma
+    restoring = state.value("effort") >= restored
     for _ in range(prob.max_iter):
         prob.iterations += 1
         z_now = state.value("effort")
@@ -1164,7 +1177,7 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             sol = None
             if prob.restoration == "least_change":  # the smallest step to the margin bound, where one fits in the region
                 bound = gamma * (1 - prob.margin)
-                step = _least_change([(c, h, bound) for c, h in cons] + stab, radius)
+                step = _least_change([(c, h, bound) for c, h in cons] + stab, radius, prob.trust_region == "ball")
                 sol = None if step is None else (step, max(c + h @ step for c, h in cons), 0.0)
             if sol is None:
                 sol = _lp(cons, stab, radius, shape=prob.trust_region)
