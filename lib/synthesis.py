@@ -738,9 +738,6 @@ def _socp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tupl
     to Clarabel directly, in its form ``A x + z = b``, ``z`` in the cones: written in cvxpy, building and compiling the
     program took 80 ms per step, a third of a warm-started synthesis (``tests/lib/test_synthesis.py`` keeps that
     formulation as the reference of this one)."""
-    import clarabel
-    from scipy import sparse
-
     n = radius.size
     # x = (d, t, s): the step's rows, then -s <= 0 and |d| <= r (nonnegative cone)
     rows, rhs = _step_rows(objective, constraints, soft)
@@ -751,17 +748,26 @@ def _socp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tupl
     a_soc = np.vstack([np.zeros(n + 2), -eye / radius[:, None]])
     b_soc = np.r_[_BALL * np.sqrt(n), np.zeros(n)]
     zero = [] if soft else [np.r_[np.zeros(n + 1), 1.0]]  # s = 0 without elastic rows (zero cone)
-    a = sparse.csc_matrix(np.vstack([*zero, a_lin, a_soc]))
-    b = np.r_[np.zeros(len(zero)), b_lin, b_soc]
-    cones = [clarabel.ZeroConeT(1)] * len(zero) + [clarabel.NonnegativeConeT(a_lin.shape[0]), clarabel.SecondOrderConeT(n + 1)]
+    cones = [("zero", len(zero)), ("nonneg", a_lin.shape[0]), ("soc", n + 1)]
+    x = _clarabel(np.zeros(n + 2), np.r_[np.zeros(n), 1.0, penalty], np.vstack([*zero, a_lin, a_soc]),
+                  np.r_[np.zeros(len(zero)), b_lin, b_soc], cones)
+    return None if x is None else (x[:n], float(x[n]), float(x[n + 1]))
+
+
+def _clarabel(p_diag: NDArray, q: NDArray, a: NDArray, b: NDArray, cones: Sequence[tuple[str, int]]) -> NDArray | None:
+    """``argmin 0.5 x^T diag(p_diag) x + q^T x`` s.t. ``b - a x`` in the cones, given in order as ``(kind, rows)`` with
+    kind ``"zero"``, ``"nonneg"`` or ``"soc"``, by Clarabel; None unless it reports the problem solved."""
+    import clarabel
+    from scipy import sparse
+
+    kinds = {"zero": clarabel.ZeroConeT, "nonneg": clarabel.NonnegativeConeT, "soc": clarabel.SecondOrderConeT}
     settings = clarabel.DefaultSettings()
     settings.verbose = False
-    solution = clarabel.DefaultSolver(sparse.csc_matrix((n + 2, n + 2)), np.r_[np.zeros(n), 1.0, penalty], a, b, cones,
+    p = sparse.diags(p_diag, format="csc")
+    p.eliminate_zeros()  # a linear program's P without stored zeros
+    solution = clarabel.DefaultSolver(p, q, sparse.csc_matrix(a), b, [kinds[kind](rows) for kind, rows in cones if rows],
                                       settings).solve()
-    if solution.status != clarabel.SolverStatus.Solved:
-        return None
-    x = np.asarray(solution.x, dtype=float)
-    return x[:n], float(x[n]), float(x[n + 1])
+    return np.asarray(solution.x, dtype=float) if solution.status == clarabel.SolverStatus.Solved else None
 
 
 def _least_change(constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray, ball: bool = False) -> NDArray | None:
@@ -772,24 +778,16 @@ def _least_change(constraints: Sequence[tuple[float, NDArray, float]], radius: N
 
     The restoration step of ``restoration="least_change"`` (see :func:`synthesize`): it moves the gain only as far as the
     linearised constraints ask, where the min-max step goes to the edge of the trust region."""
-    import clarabel
-    from scipy import sparse
-
     n = radius.size
     eye = np.eye(n)
     a = np.vstack([*(h.ravel() * radius for _, h, _ in constraints), eye, -eye])
     b = np.r_[[bound - c for c, _, bound in constraints], np.ones(2 * n)]
-    cones = [clarabel.NonnegativeConeT(a.shape[0])]
+    cones = [("nonneg", a.shape[0])]
     if ball:  # (_BALL sqrt(n), x) in the second-order cone
         a, b = np.vstack([a, np.zeros(n), -eye]), np.r_[b, _BALL * np.sqrt(n), np.zeros(n)]
-        cones.append(clarabel.SecondOrderConeT(n + 1))
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    solution = clarabel.DefaultSolver(sparse.identity(n, format="csc"), np.zeros(n), sparse.csc_matrix(a), b, cones,
-                                      settings).solve()
-    if solution.status != clarabel.SolverStatus.Solved:
-        return None
-    return np.asarray(solution.x, dtype=float) * radius
+        cones.append(("soc", n + 1))
+    x = _clarabel(np.ones(n), np.zeros(n), a, b, cones)
+    return None if x is None else x * radius
 
 
 def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
