@@ -11,10 +11,13 @@ J_c, Z_c and success still from the dense final evaluation and searches); its ch
 checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in. With
 ``--rule matlab`` the swarm adapts by MATLAB particleswarm's rules as its code applies them (:mod:`lib.pso`), with
 ``_matlab_rule`` added to the names of the checkpoint and JSON; with ``--trust-region ball`` every synthesis steps in the
-box cut by a ball (``benchmarks/trust_region.py``), ``_ball`` added to the names.
+box cut by a ball (``benchmarks/trust_region.py``), ``_ball`` added to the names; with ``--restoration least_change``
+stability is restored by least-change steps (``benchmarks/restoration.py``), ``_least_change`` added (notebook 07's
+stored run since 2026-12-05: ``--fast --trust-region ball --restoration least_change``).
 
 Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--fast]
                                    [--rule documented|matlab] [--trust-region box|ball] [--stop-after K] [--json PATH]
+                                   [--restoration minmax|least_change]
      python benchmarks/codesign.py --report data/results/07_pso_checkpoint.json   # the timing of a run already made
                                                                                   # (e.g. notebook 07's main job)
 """
@@ -34,10 +37,11 @@ from _machine import machine_info  # noqa: E402
 from lib import codesign  # noqa: E402
 
 
-def _suffix(fast: bool, rule: str, trust_region: str = "box") -> str:
-    """Name suffix of the checkpoint and JSON of a run by the fast path, MATLAB's coded swarm rules and/or the ball
-    trust region."""
-    return ("_fast" if fast else "") + ("_matlab_rule" if rule == "matlab" else "") + ("_ball" if trust_region == "ball" else "")
+def _suffix(fast: bool, rule: str, trust_region: str = "box", restoration: str = "minmax") -> str:
+    """Name suffix of the checkpoint and JSON of a run by the fast path, MATLAB's coded swarm rules, the ball trust
+    region and/or least-change restoration."""
+    return ("_fast" if fast else "") + ("_matlab_rule" if rule == "matlab" else "") + ("_ball" if trust_region == "ball" else "") \
+        + ("_least_change" if restoration == "least_change" else "")
 
 
 def main() -> None:
@@ -57,16 +61,19 @@ def main() -> None:
                         " give another path for a rerun that must not replace the stored one)")
     parser.add_argument("--trust-region", choices=["box", "ball"], default="box",
                         help="shape of every synthesis step (lib.synthesis.synthesize, trust_region; default the box)")
+    parser.add_argument("--restoration", choices=["minmax", "least_change"], default="minmax",
+                        help="the steps that restore stability (lib.synthesis.synthesize, restoration; default min-max)")
     args = parser.parse_args()
-    suffix = _suffix(args.fast, args.rule, args.trust_region)
+    suffix = _suffix(args.fast, args.rule, args.trust_region, args.restoration)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
-    options = codesign.synthesis_options(args.fast, args.trust_region)
+    options = codesign.synthesis_options(args.fast, args.trust_region, args.restoration)
     if args.report:
         from lib import pso
 
         state = pso.load_state(args.report)
         run_options = state.extra.get("options") or {}
-        suffix = _suffix(bool(run_options.get("fast")), state.rule, run_options.get("trust_region", "box"))  # the run's, not the flags'
+        suffix = _suffix(bool(run_options.get("fast")), state.rule, run_options.get("trust_region", "box"),
+                         run_options.get("restoration", "minmax"))  # the run's, not the flags'
         n_workers = os.cpu_count()
         particles, iterations = len(state.x), state.iteration
     else:

@@ -15,11 +15,13 @@ This script runs, with notebook 07's options (co-design tolerance, fast path, ba
 * cold starts (all gains at -1) at 1.5, 2.139 and 3 cm;
 
 one thread per synthesis, two syntheses at a time, and records J_c, Z_c, validity, iterations, searches and time.
-With ``--source ball`` the warm starts come from the stored co-design's grid (``data/results/07_grid.json``, computed
-with the ball) instead, ``--steps`` sets the steps [m] and ``--no-cold`` leaves the cold starts out (they do not depend
-on the source); the results then go to ``restoration_ball.json``.
+With ``--source ball_minmax`` the warm starts come from the ball grid computed with min-max restoration
+(``data/results/ball_minmax/07_grid.json``, the stored co-design's until 2026-12-05), with ``--source ball`` from the
+stored co-design's grid (``data/results/07_grid.json``, ball and least-change restoration since 2026-12-05);
+``--steps`` sets the steps [m] and ``--no-cold`` leaves the cold starts out (they do not depend on the source); the
+results then go to ``restoration_<source>.json``.
 Prints a line per run and a summary and saves benchmarks/results/restoration.json.
-Run: python benchmarks/restoration.py [--processes 2] [--source {box,ball}] [--steps 0.00039 0.001] [--no-cold]
+Run: python benchmarks/restoration.py [--processes 2] [--source {box,ball_minmax,ball}] [--steps 0.00039 0.001] [--no-cold]
 """
 
 from __future__ import annotations
@@ -92,7 +94,7 @@ def _summary(rows: list[dict], warm: bool) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--processes", type=int, default=2)
-    parser.add_argument("--source", choices=("box", "ball"), default="box")
+    parser.add_argument("--source", choices=("box", "ball_minmax", "ball"), default="box")
     parser.add_argument("--steps", type=float, nargs="+", default=list(STEPS))
     parser.add_argument("--cold", action=argparse.BooleanOptionalAction, default=True)
     args = parser.parse_args()
@@ -109,7 +111,7 @@ def main() -> None:
                   f"{s['under_10_s']} under 10 s), median searches {s['median_searches']:.0f}, median valid J_c {s['median_J_c']:.5f}")
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "options": codesign.synthesis_options(True, "ball"),
            "processes": args.processes, "source": args.source, "steps": args.steps, "rows": rows, "summary": summary}
-    path = ROOT / "benchmarks" / "results" / ("restoration.json" if args.source == "box" else "restoration_ball.json")
+    path = ROOT / "benchmarks" / "results" / ("restoration.json" if args.source == "box" else f"restoration_{args.source}.json")
     path.write_text(json.dumps(out, indent=1, default=float) + "\n")
     print(f"saved {path}")
 

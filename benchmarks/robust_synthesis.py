@@ -39,13 +39,18 @@ from lib import design, robustness  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
 
-GRIDS = {"box": Path("data") / "results" / "box" / "07_grid.json", "ball": Path("data") / "results" / "07_grid.json"}
+# the co-design grids: box-only (dense path, min-max restoration), ball with min-max restoration (stored 2026-12-04 to
+# 2026-12-05) and the stored one (ball, least-change restoration, since 2026-12-05)
+GRIDS = {"box": Path("data") / "results" / "box" / "07_grid.json",
+         "ball_minmax": Path("data") / "results" / "ball_minmax" / "07_grid.json",
+         "ball": Path("data") / "results" / "07_grid.json"}
 
 
 def grid_design(h0: float, source: str = "box") -> tuple[dict, list]:
     """The co-design grid's design at ``h0`` [m]: its record (gain, J_c, ...) and its final scenario set, the warm start a
-    co-design makes (notebook 07's Step 3). ``source``: the box-only grid (``data/results/box/07_grid.json``, default) or
-    the stored co-design's, with the ball (``data/results/07_grid.json``)."""
+    co-design makes (notebook 07's Step 3). ``source``: the box-only grid (``data/results/box/07_grid.json``, default),
+    the ball grid with min-max restoration (``data/results/ball_minmax/07_grid.json``) or the stored co-design's, with
+    the ball and least-change restoration (``data/results/07_grid.json``)."""
     from lib import synthesis
 
     if source not in GRIDS:

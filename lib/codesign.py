@@ -46,11 +46,18 @@ JC_LIMIT = 2.0
 SYNTHESIS_OPTIONS: dict[str, Any] = {"tol": 1e-2}
 
 
-def synthesis_options(fast: bool = False, trust_region: str = "box") -> dict[str, Any] | None:
-    """The co-design's synthesis options with the fast path and/or a trust-region shape: :data:`SYNTHESIS_OPTIONS`
-    plus what differs from the synthesis defaults, or None when nothing does (the options the box-only runs were
-    stored with, so that their checkpoints and caches keep matching)."""
-    extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {})}
+def synthesis_options(fast: bool = False, trust_region: str = "box", restoration: str = "minmax") -> dict[str, Any] | None:
+    """The co-design's synthesis options with the fast path, a trust-region shape and/or a restoration step:
+    :data:`SYNTHESIS_OPTIONS` plus what differs from the synthesis defaults, or None when nothing does (the options the
+    box-only runs were stored with, so that their checkpoints and caches keep matching).
+
+    ``fast``, ``trust_region`` ({"box", "ball"}) and ``restoration`` ({"minmax", "least_change"}) are those of
+    :func:`lib.synthesis.synthesize`; notebook 07's stored run uses ``(True, "ball", "least_change")``.
+    """
+    if restoration not in ("minmax", "least_change"):
+        raise ValueError(f"restoration must be 'minmax' or 'least_change', got {restoration!r}")
+    extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {}),
+             **({"restoration": restoration} if restoration != "minmax" else {})}
     return {**SYNTHESIS_OPTIONS, **extra} if extra else None
 
 

@@ -1,6 +1,6 @@
 """The README's first design in Python runs as printed, and what it prints is right: the TITOP beam against the
 Euler-Bernoulli closed form, the stored design's worst case against notebook 06's result and against the certified
-H-infinity norm, the new synthesis against its own certified norm and the effort bound (about 3 min)."""
+H-infinity norm, the new synthesis against its own certified norm and the effort bound (about 30 s)."""
 
 from __future__ import annotations
 
