@@ -62,7 +62,7 @@ def _run(job: tuple[str, float, float | None, str, str]) -> dict:
 
     name, h, h0, mode, source = job
     settings = LoopSettings.from_parameters()
-    kw: dict = dict(codesign.synthesis_options(True, "ball") or {}, restoration=mode)
+    kw: dict = dict(codesign.synthesis_options(True, "ball", mode) or {})
     if h0 is not None:
         rec, scen = grid_design(h0, source)
         kw.update(gain0=rec["gain"], scenarios=scen)

@@ -54,8 +54,7 @@ def synthesis_options(fast: bool = False, trust_region: str = "box", restoration
     ``fast``, ``trust_region`` ({"box", "ball"}) and ``restoration`` ({"minmax", "least_change"}) are those of
     :func:`lib.synthesis.synthesize`; notebook 07's stored run uses ``(True, "ball", "least_change")``.
     """
-    if restoration not in ("minmax", "least_change"):
-        raise ValueError(f"restoration must be 'minmax' or 'least_change', got {restoration!r}")
+    synthesis.check_options({"restoration": restoration})  # its ValueError for an unknown restoration
     extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {}),
              **({"restoration": restoration} if restoration != "minmax" else {})}
     return {**SYNTHESIS_OPTIONS, **extra} if extra else None

@@ -41,7 +41,7 @@ def _how(parameters: dict) -> str:
     trust region nor the restoration: box, min-max; the oldest not the path: dense)."""
     return (("fast path" if parameters.get("fast_synthesis") else "dense path") + ", "
             + str(parameters.get("trust_region", "box")) + " trust region, "
-            + str(parameters.get("restoration", "minmax")).replace("_", "-").replace("minmax", "min-max") + " restoration")
+            + {"minmax": "min-max", "least_change": "least-change"}[parameters.get("restoration", "minmax")] + " restoration")
 
 
 def rows(root: Path) -> list[tuple[str, str, str, str]]:
