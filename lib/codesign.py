@@ -51,10 +51,11 @@ def synthesis_options(fast: bool = False, trust_region: str = "box", restoration
     :data:`SYNTHESIS_OPTIONS` plus what differs from the synthesis defaults, or None when nothing does (the options the
     box-only runs were stored with, so that their checkpoints and caches keep matching).
 
-    ``fast``, ``trust_region`` ({"box", "ball"}) and ``restoration`` ({"minmax", "least_change"}) are those of
+    ``fast``, ``trust_region`` ({"box", "ball", "bfgs"}) and ``restoration`` ({"minmax", "least_change"}) are those of
     :func:`lib.synthesis.synthesize`; notebook 07's stored run uses ``(True, "ball", "least_change")``.
     """
-    synthesis.check_options({"restoration": restoration})  # its ValueError for an unknown restoration
+    # their ValueError for an unknown trust region or restoration
+    synthesis.check_options({"trust_region": trust_region, "restoration": restoration})
     extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {}),
              **({"restoration": restoration} if restoration != "minmax" else {})}
     return {**SYNTHESIS_OPTIONS, **extra} if extra else None

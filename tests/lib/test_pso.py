@@ -262,8 +262,12 @@ def test_synthesis_options_keep_the_stored_runs_keys():
     assert codesign.synthesis_options(trust_region="ball") == {"tol": 1e-2, "trust_region": "ball"}
     assert codesign.synthesis_options(True, "ball", "least_change") == {"tol": 1e-2, "fast": True, "trust_region": "ball",
                                                                         "restoration": "least_change"}
+    assert codesign.synthesis_options(True, "bfgs", "least_change") == {"tol": 1e-2, "fast": True, "trust_region": "bfgs",
+                                                                        "restoration": "least_change"}
     with pytest.raises(ValueError, match="restoration"):
         codesign.synthesis_options(restoration="least-change")
+    with pytest.raises(ValueError, match="trust_region"):
+        codesign.synthesis_options(trust_region="ellipse")
 
 
 def test_default_settings_given_or_not_are_the_same_objective(tmp_path, monkeypatch):

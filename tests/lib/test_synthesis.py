@@ -566,6 +566,72 @@ def test_ball_step_equals_the_cvxpy_formulation(seed):
         assert np.all(np.abs(got[0]) <= radius * (1 + 1e-6))
 
 
+def _metric_step_by_cvxpy(objective, radius, m, widths):
+    """The step of ``trust_region="bfgs"`` written in cvxpy: min t s.t. f + g d <= t, ||M (d / r)|| <= rho,
+    |d| <= widths r; and the multipliers of the peak rows."""
+    import cvxpy as cp
+
+    n = radius.size
+    d, t = cp.Variable(n), cp.Variable()
+    rows = [f + g @ d <= t for f, g in objective]
+    cons = [cp.norm(m @ cp.multiply(1.0 / radius, d), 2) <= synthesis._BALL * np.sqrt(n), cp.abs(d) <= widths * radius]
+    cp.Problem(cp.Minimize(t), rows + cons).solve(solver=cp.CLARABEL)
+    return d.value, float(t.value), np.array([float(r.dual_value) for r in rows])
+
+
+def test_metric_is_the_ball_until_its_first_update_and_meets_the_secant_equation():
+    """Before an update the metric's region is the ball (the same step to the last bit); a BFGS update makes B s = y
+    (the secant equation), keeps B symmetric positive definite, and is skipped when s.y <= 0 (no curvature); the
+    region's shape has a geometric-mean eigenvalue of 1 and a condition number capped at kappa."""
+    rng = np.random.default_rng(3)
+    n = 32
+    radius = 10.0 ** rng.uniform(-1, 1, n)
+    objective = [(rng.normal(), rng.normal(size=n)) for _ in range(12)]
+    metric = synthesis._Metric.identity(n)
+    ball = synthesis._lp(objective, [], radius, shape="ball")
+    same = synthesis._lp(objective, [], radius, shape="bfgs", metric=metric)
+    assert all(np.array_equal(x, y) for x, y in zip(ball, same))
+    a = rng.normal(size=(n, n))
+    hess = a @ a.T + 0.1 * np.eye(n)  # a convex quadratic: y = H s exactly
+    for _ in range(5):
+        step = rng.normal(size=n)
+        assert metric.update(step, hess @ step)
+        np.testing.assert_allclose(metric.b @ step, hess @ step, rtol=1e-8, atol=1e-10 * np.abs(hess @ step).max())
+    assert np.allclose(metric.b, metric.b.T) and np.linalg.eigvalsh(metric.b).min() > 0
+    step = rng.normal(size=n)
+    before = metric.b.copy()
+    assert not metric.update(step, -step) and np.array_equal(metric.b, before) and metric.updates == 5
+    m, widths = metric.shape()
+    lam = np.linalg.eigvalsh(m.T @ m)
+    assert np.all(np.abs(np.log(lam)) <= 0.5 * np.log(metric.kappa) + 1e-9)  # centred on 1 in log, then clipped
+    assert lam.max() / lam.min() <= metric.kappa * (1 + 1e-9) and lam.max() / lam.min() > 10.0
+    np.testing.assert_allclose(widths, np.maximum(1.0, np.sqrt(np.diag(np.linalg.inv(m.T @ m)))), rtol=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_metric_step_and_its_multipliers_equal_the_cvxpy_formulation(seed):
+    """The step in a learnt metric (an ellipsoid, the box widened to its extent), given to Clarabel directly, against
+    the same program in cvxpy, on random problems of the synthesis's size: the same optimum and step, and the
+    multipliers of the peak rows returned through ``weights`` equal cvxpy's duals (they sum to 1: t's row)."""
+    rng = np.random.default_rng(seed)
+    n = 32
+    radius = 10.0 ** rng.uniform(-1, 1, n)
+    objective = [(rng.normal(), rng.normal(size=n)) for _ in range(rng.integers(5, 40))]
+    metric = synthesis._Metric.identity(n)
+    for _ in range(6):
+        step = rng.normal(size=n)
+        metric.update(step, (1.0 + 30.0 * rng.uniform(size=n)) * step)  # a diagonal curvature spread over 30x
+    m, widths = metric.shape()
+    assert widths.max() > 1.0  # the box is widened along some entries
+    weights: list = []
+    d, t, _ = synthesis._lp(objective, [], radius, shape="bfgs", metric=metric, weights=weights)
+    d_ref, t_ref, lam_ref = _metric_step_by_cvxpy(objective, radius, m, widths)
+    assert t == pytest.approx(t_ref, rel=1e-6, abs=1e-7)
+    assert np.allclose(d, d_ref, rtol=1e-4, atol=1e-5 * radius.max())
+    assert weights[0].sum() == pytest.approx(1.0, abs=1e-6)
+    np.testing.assert_allclose(weights[0], lam_ref, atol=1e-5)
+
+
 def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
     """min t s.t. f_j + g_j d <= t, |d| <= r, by hand: t = max(2 - d, d) is least at d = 1 (t = 1) inside r = 5, at the
     trust-region edge d = 0.5 (t = 1.5) for r = 0.5; t may be negative (the objective has no lower bound)."""
@@ -639,7 +705,8 @@ def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
     assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
 
 
-@pytest.mark.parametrize("shape, restoration", [("box", "minmax"), ("ball", "minmax"), ("ball", "least_change")])
+@pytest.mark.parametrize("shape, restoration", [("box", "minmax"), ("ball", "minmax"), ("ball", "least_change"),
+                                                ("bfgs", "least_change")])
 def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, inertia, shape, restoration, monkeypatch):
     """From an effort-infeasible start (3 x the 2.1 cm grid gain at 2.139 cm, stabilised: Z = 8.24, measured) the
     optimiser first lowers the worst effort peak at every accepted step until Z < gamma_u, then lowers the merit
@@ -695,7 +762,8 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
             assert np.linalg.svd(t, compute_uv=False)[0] <= lp.norm(group) * (1 + 1e-6)  # loop_peaks's direct-check tolerance
 
 
-def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkeypatch):
+@pytest.mark.parametrize("region", ["ball", "bfgs"])
+def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkeypatch, region):
     """Every LP of a synthesis (stabilisation and optimisation) gets the shape given to synthesize."""
     shapes: list[str] = []
     lp = synthesis._lp
@@ -706,8 +774,8 @@ def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkey
 
     monkeypatch.setattr(synthesis, "_lp", recording)
     synthesis.synthesize(model, inertia, ST, gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], max_iter=3, max_rounds=1,
-                         search_thetas_deg=[0.0], workers=1, trust_region="ball")
-    assert len(shapes) >= 3 and set(shapes) == {"ball"}
+                         search_thetas_deg=[0.0], workers=1, trust_region=region)
+    assert len(shapes) >= 3 and set(shapes) == {region}
 
 
 @pytest.mark.parametrize("fast", [False, True])
