@@ -12,9 +12,12 @@ regions on:
   1.9, 2.1, 2.4 and 2.8 cm to h + 0.39 mm, + 1 mm and + 3 mm (steps past 3 cm left out);
 * cold starts (all gains at -1) at 1.5, 2.139 and 3 cm;
 
-one thread per synthesis, two syntheses at a time (``--processes``), and records J_c, Z_c, validity, iterations,
-searches and time. Prints a line per run and a summary and saves benchmarks/results/trust_metric.json.
+one thread per synthesis, two syntheses at a time (``--processes``), or with ``--alone`` each synthesis alone on the
+machine with two threads (the synthesis issue's setting for its "under 10 s"), and records J_c, Z_c, validity,
+iterations, searches and time. Prints a line per run and a summary and saves benchmarks/results/trust_metric.json
+(``trust_metric_alone.json`` with ``--alone``).
 Run: python benchmarks/trust_metric.py [--processes 2] [--steps 0.00039 0.001 0.003] [--no-cold] [--regions ball bfgs]
+     [--alone]
 """
 
 from __future__ import annotations
@@ -48,11 +51,11 @@ def _cases(steps: tuple[float, ...], cold: bool) -> list[tuple[str, float, float
     return warm + ([(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if cold else [])
 
 
-def _run(job: tuple[str, float, float | None, str]) -> dict:
-    """One synthesis of a case with a trust region; its record."""
+def _run(job: tuple[str, float, float | None, str, int]) -> dict:
+    """One synthesis of a case with a trust region and a number of threads (``workers``); its record."""
     from threadpoolctl import threadpool_limits
 
-    name, h, h0, region = job
+    name, h, h0, region, workers = job
     kw: dict = dict(codesign.synthesis_options(True, "ball", "least_change") or {}, trust_region=region)
     if h0 is not None:
         rec, scen = grid_design(h0, "ball")
@@ -60,7 +63,7 @@ def _run(job: tuple[str, float, float | None, str]) -> dict:
     with threadpool_limits(1):
         models = design.models_at(h)
         t0 = time.perf_counter()
-        res = design.robust_design(models, LoopSettings.from_parameters(), workers=1, **kw)
+        res = design.robust_design(models, LoopSettings.from_parameters(), workers=workers, **kw)
         wall = time.perf_counter() - t0
     return {"case": name, "h": h, "warm_from": h0, "trust_region": region, "J_c": res.j_c, "Z_c": res.z_c,
             "success": res.success, "message": res.message, "iterations": res.iterations, "searches": res.searches,
@@ -90,9 +93,15 @@ def main() -> None:
     parser.add_argument("--steps", type=float, nargs="+", default=list(STEPS))
     parser.add_argument("--cold", action=argparse.BooleanOptionalAction, default=True)
     parser.add_argument("--regions", nargs="+", default=["ball", "bfgs"], choices=("box", "ball", "bfgs"))
-    parser.add_argument("--out", default="trust_metric.json")
+    parser.add_argument("--alone", action="store_true",
+                        help="each synthesis alone on the machine with two threads (workers=2), one after the other; "
+                             "results to trust_metric_alone.json")
+    parser.add_argument("--out", default=None)
     args = parser.parse_args()
-    jobs = [(*case, region) for case in _cases(tuple(args.steps), args.cold) for region in args.regions]
+    if args.alone:
+        args.processes = 1
+    out_name = args.out or ("trust_metric_alone.json" if args.alone else "trust_metric.json")
+    jobs = [(*case, region, 2 if args.alone else 1) for case in _cases(tuple(args.steps), args.cold) for region in args.regions]
     # the longest first (cold starts), so that two processes finish together
     jobs.sort(key=lambda j: (j[2] is not None, -j[1] if j[2] is None else 0))
     with ProcessPoolExecutor(args.processes) as pool:
@@ -107,8 +116,9 @@ def main() -> None:
                   f"(max {s['max_time_s']:.1f} s, {s['under_10_s']} under 10 s), median J_c {s['median_J_c']:.5f}, "
                   f"median iterations {s['median_iterations']:.0f}, median searches {s['median_searches']:.0f}")
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "processes": args.processes,
+           "threads_per_synthesis": 2 if args.alone else 1,
            "steps": args.steps, "rows": rows, "summary": summary}
-    path = ROOT / "benchmarks" / "results" / args.out
+    path = ROOT / "benchmarks" / "results" / out_name
     path.write_text(json.dumps(out, indent=1))
     print(f"saved {path}")
 

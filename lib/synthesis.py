@@ -700,6 +700,8 @@ def _linearise(plants, state: _State, group: str, band: float,
 # radius of the ball of trust_region="ball", in units of the box's per-entry radii and of sqrt(n): halfway from the
 # box's inscribed ball (1) to its corners (sqrt(n)). The first and only value tried (benchmarks/trust_region.py)
 _BALL = 0.5
+# trust_region="bfgs": a pair (s, y) updates the metric only if s.y > _CURVATURE |s| |y| (an angle below 89.99 deg)
+_CURVATURE = 1e-4
 
 
 @dataclass
@@ -709,12 +711,15 @@ class _Metric:
     radii stay proportional), learnt from J's subgradient before and after each accepted step: the peaks' gradients
     weighted by the step program's multipliers of their rows (sum 1), so that where several peaks are equal (4-5 at
     once in a warm start) the change is that of the active combination, not of whichever peak happens to be the largest
-    (BFGS on nonsmooth functions: Lewis and Overton, 2013, the method of HIFOO). Measured (``benchmarks/trust_metric.py``
-    development runs): the top peak's gradient alone gave a median warm start of 19.3 s, the weighted one 14.1 s.
+    (in the spirit of BFGS on nonsmooth functions, Lewis and Overton 2013, HIFOO's method, which takes the gradient at
+    the point and a line search; here the multipliers are those of the trust-region step, so ``y`` also carries changes
+    of the active peaks). Measured (``benchmarks/trust_metric.py`` on an earlier version, ``trust_metric_75b76d0.json``
+    and the development run ``trust_metric_top_peak_dev.json``): with the largest peak's gradient alone the 14 warm
+    starts took a median of 45.5 steps, with the weighted subgradient 37.5 (the ball 54.5).
 
-    The step's region is then ``||M u|| <= rho`` with ``M^T M`` = ``B`` scaled to a geometric mean eigenvalue of 1 and
-    its condition number capped at ``kappa``: longer along directions of low curvature, shorter along those of high, the
-    same volume as the ball; the box is widened to the ellipsoid's extent along each entry. The linear program's step
+    The step's region is then ``||M u|| <= rho`` with ``M^T M`` = ``B`` with its condition number capped at ``kappa``
+    and scaled to a geometric-mean eigenvalue of 1: longer along directions of low curvature, shorter along those of
+    high, the ball's volume; the box is widened by the ellipsoid's half-extent along each entry (never narrowed). The linear program's step
     in the ball is a steepest-descent step, which crawls along a curved valley: measured on a warm start 2.4 -> 2.5 cm,
     25 steps in a row each on the ball, each predicting 0.42 % less J and giving 0.26 %. Before the first update (and
     whenever an update fails the curvature condition ``s.y > 0`` it is skipped) the region is exactly the ball.
@@ -731,12 +736,14 @@ class _Metric:
     def update(self, s: NDArray, y: NDArray) -> bool:
         """BFGS update with the scaled step ``s`` and the change ``y`` of the gradient (in ``u``); False if skipped."""
         sy = float(s @ y)
-        if not (np.all(np.isfinite(s)) and np.all(np.isfinite(y)) and sy > 1e-10 * np.linalg.norm(s) * np.linalg.norm(y)):
+        if not (np.all(np.isfinite(s)) and np.all(np.isfinite(y)) and sy > _CURVATURE * np.linalg.norm(s) * np.linalg.norm(y)):
             return False
-        if self.updates == 0:  # the usual first scaling (Nocedal and Wright, eq. 6.20)
-            self.b = (y @ y) / sy * np.eye(s.size)
-        bs = self.b @ s
-        self.b = self.b - np.outer(bs, bs) / (s @ bs) + np.outer(y, y) / sy
+        b = (y @ y) / sy * np.eye(s.size) if self.updates == 0 else self.b  # the usual first scaling (inverse of N&W 6.20)
+        bs = b @ s
+        sbs = float(s @ bs)
+        if not sbs > 0.0:  # B no longer positive definite (round-off): skipped
+            return False
+        self.b = b - np.outer(bs, bs) / sbs + np.outer(y, y) / sy
         self.updates += 1
         return True
 
@@ -747,10 +754,18 @@ class _Metric:
             return np.eye(n), np.ones(n)
         lam, vec = np.linalg.eigh(0.5 * (self.b + self.b.T))
         log = np.log(np.maximum(lam, lam.max() * 1e-12))
-        log = np.clip(log - log.mean(), -0.5 * np.log(self.kappa), 0.5 * np.log(self.kappa))
-        lam = np.exp(log)
+        half = 0.5 * np.log(self.kappa)
+        # the shift c with sum(clip(log - c, -half, half)) = 0 (the sum falls monotonically with c): the clipped
+        # eigenvalues keep a geometric mean of 1, so the ellipsoid has the ball's volume
+        lo, hi = log.min() - half, log.max() + half
+        for _ in range(60):
+            c = 0.5 * (lo + hi)
+            lo, hi = (c, hi) if np.clip(log - c, -half, half).sum() > 0 else (lo, c)
+        lam = np.exp(np.clip(log - 0.5 * (lo + hi), -half, half))
         m = (vec * np.sqrt(lam)) @ vec.T
-        widths = np.maximum(1.0, np.sqrt(np.sum(vec ** 2 / lam, axis=1)))  # sqrt(diag(B^-1)): the extent along each entry
+        # sqrt(diag(B^-1)): the ellipsoid's half-extent along each entry in units of rho (1 for the ball). The box
+        # |d| <= widths r then cuts the ellipsoid as the unit box cuts the ball, except that it is never narrower
+        widths = np.maximum(1.0, np.sqrt(np.sum(vec ** 2 / lam, axis=1)))
         return m, widths
 
 
@@ -934,7 +949,10 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         Region of each step: the box ``|d_i| <= r_i`` on the gain entries (default: each step a linear program; every
         stored result) or that box intersected with the ball ``||d / r||_2 <= sqrt(32) / 2`` (a second-order cone program,
         Clarabel), or (``"bfgs"``) that ball in the norm of a BFGS estimate of J's curvature learnt over the accepted steps
-        of each optimisation, the box widened to match (:class:`_Metric`; the stabilisation steps keep the ball). In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
+        of each optimisation, the box widened to match (:class:`_Metric`; the stabilisation, feasibility-phase and
+        least-change steps keep the ball). Measured (``benchmarks/trust_metric.py``, README): no systematic gain on 14
+        warm starts (median 19.5 s against 20.4 s, J_c -4.7 to +11.5 %), and from all gains at -1 at 1.5 cm it stops on
+        a plateau at J_c 0.18; no stored result uses it. In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
         of the 32 entries on its faces) while 6-10 pole-damping rows are active, and the synthesis can crawl for dozens
         of steps and stop on that plateau (``benchmarks/thin_end_plateau.py``). Measured (``benchmarks/trust_region.py``,
         fast path, 8 cases): the ball takes the two such stalls (J_c 0.164 at 1.5 cm with ``tol = 0.01``, 0.181 at
@@ -1227,7 +1245,8 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
         restoring = restoring and z_now >= restored
         feasible = not restoring
         cons = _linearise(prob.plants, state, "effort", prob.band, prob.modal)
-        stab = prob.stability_rows(state, all_plants=False, radius=radius)
+        # the stability rows of the poles that could rise highest within the step's reach (the learnt metric's box)
+        stab = prob.stability_rows(state, all_plants=False, radius=radius if metric is None else radius * metric.shape()[1])
         if feasible:
             # min J with the effort peaks elastic above a target halfway between Z and the margin bound (l1 penalty):
             # demanding them below the bound at once can leave no room to decrease J, and a pure feasibility step
@@ -1244,14 +1263,14 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
 
             weights: list[NDArray] = []
             sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region, metric, weights)
-            if metric is not None and sol is None:
-                last = None
             if metric is not None and sol is not None:
                 # J's subgradient at the step (the peaks' gradients weighted by their multipliers) [1 / gain unit]; after
                 # an accepted step, its change gives the metric's update, and the step is solved again in the new metric
+                # (with the stability rows of its reach). A pair waits for the first solve at the new point
                 grad = weights[0] @ np.array([g for _, g in rpe])
                 if last is not None and metric.update(last[0] / base, (grad - last[1]) * base):
                     weights.clear()
+                    stab = prob.stability_rows(state, all_plants=False, radius=radius * metric.shape()[1])
                     sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region, metric, weights)
                     grad = grad if sol is None else weights[0] @ np.array([g for _, g in rpe])
                 last = None
