@@ -39,8 +39,9 @@ ROOT = Path(__file__).parents[1]
 CUTS = (500.0, 750.0, 1000.0, 1500.0, 2000.0, 3000.0, 10000.0)
 
 
-def _mu_worst_cases() -> dict[str, synthesis.Scenario]:
-    """Notebook 08's mu worst cases (its stored design is notebook 07's optimum) as scenarios, per transfer."""
+def _mu_worst_cases() -> dict[str, tuple[float, float, float, float]]:
+    """Notebook 08's mu worst cases (its stored design is notebook 07's optimum), per transfer: hub mass [kg], hub Iyy
+    [kg m^2], omega1 [rad/s], theta [deg]."""
     table = results.load_results("08_worst_case_mu", str(ROOT / "data" / "results"))["results"]["table"]
     out = {}
     for group, key in (("rpe", "p~ -> RPE"), ("effort", "p~ -> W~u")):
