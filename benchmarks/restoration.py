@@ -30,6 +30,7 @@ import argparse
 import json
 import os
 import time
+from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -49,7 +50,7 @@ COLD = (0.015, 0.02139, 0.03)
 MODES = ("minmax", "least_change")
 
 
-def _cases(steps: tuple[float, ...] = STEPS, cold: bool = True) -> list[tuple[str, float, float | None]]:
+def cases(steps: tuple[float, ...] = STEPS, cold: bool = True) -> list[tuple[str, float, float | None]]:
     """(name, h [m], warm-start grid point h0 [m] or None for a cold start); steps past the design range (3 cm) left out."""
     warm = [(f"warm {100 * h0:.1f} -> {100 * (h0 + dh):.3f} cm", h0 + dh, h0) for h0 in WARM_FROM for dh in steps
             if h0 + dh <= 0.03 + 1e-12]
@@ -75,19 +76,20 @@ def _run(job: tuple[str, float, float | None, str, str]) -> dict:
             "message": res.message, "iterations": res.iterations, "searches": res.searches, "time_s": wall}
 
 
-def _summary(rows: list[dict], warm: bool) -> dict:
-    """Per mode over the warm (or cold) runs: valid runs, median and largest time, median J_c, worst J_c ratio to the
-    other mode's."""
+def summary(rows: list[dict], key: str, variants: Sequence[str], warm: bool, iterations: bool = False) -> dict:
+    """Per variant (``row[key]``, e.g. the restoration) over the warm (or cold) runs: valid runs, median and largest
+    time, runs under 10 s, median J_c of the valid ones, (with ``iterations``) median iterations, and median searches."""
     out = {}
-    for mode in MODES:
-        mine = [r for r in rows if r["restoration"] == mode and (r["warm_from"] is not None) == warm]
+    for variant in variants:
+        mine = [r for r in rows if r[key] == variant and (r["warm_from"] is not None) == warm]
         if not mine:
             continue
-        out[mode] = {"runs": len(mine), "valid": sum(r["success"] for r in mine),
-                     "median_time_s": float(np.median([r["time_s"] for r in mine])), "max_time_s": max(r["time_s"] for r in mine),
-                     "under_10_s": sum(r["time_s"] < 10.0 for r in mine),
-                     "median_J_c": float(np.median([r["J_c"] for r in mine if r["success"]] or [np.inf])),
-                     "median_searches": float(np.median([r["searches"] for r in mine]))}
+        out[variant] = {"runs": len(mine), "valid": sum(r["success"] for r in mine),
+                        "median_time_s": float(np.median([r["time_s"] for r in mine])),
+                        "max_time_s": max(r["time_s"] for r in mine), "under_10_s": sum(r["time_s"] < 10.0 for r in mine),
+                        "median_J_c": float(np.median([r["J_c"] for r in mine if r["success"]] or [np.inf])),
+                        **({"median_iterations": float(np.median([r["iterations"] for r in mine]))} if iterations else {}),
+                        "median_searches": float(np.median([r["searches"] for r in mine]))}
     return out
 
 
@@ -98,19 +100,19 @@ def main() -> None:
     parser.add_argument("--steps", type=float, nargs="+", default=list(STEPS))
     parser.add_argument("--cold", action=argparse.BooleanOptionalAction, default=True)
     args = parser.parse_args()
-    jobs = [(*case, mode, args.source) for case in _cases(tuple(args.steps), args.cold) for mode in MODES]
+    jobs = [(*case, mode, args.source) for case in cases(tuple(args.steps), args.cold) for mode in MODES]
     with ProcessPoolExecutor(args.processes) as pool:
         rows = list(pool.map(_run, jobs))
     for row in rows:
         print(f"{row['case']}, {row['restoration']}: J_c {row['J_c']:.5f}, Z_c {row['Z_c']:.4f}, valid {row['success']}, "
               f"{row['iterations']} iterations, {row['searches']} searches, {row['time_s']:.1f} s")
-    summary = {"warm": _summary(rows, True), "cold": _summary(rows, False) if args.cold else {}}
-    for kind, per_mode in summary.items():
+    result = {"warm": summary(rows, "restoration", MODES, True), "cold": summary(rows, "restoration", MODES, False) if args.cold else {}}
+    for kind, per_mode in result.items():
         for mode, s in per_mode.items():
             print(f"{kind}, {mode}: {s['valid']}/{s['runs']} valid, time median {s['median_time_s']:.1f} s (max {s['max_time_s']:.1f} s, "
                   f"{s['under_10_s']} under 10 s), median searches {s['median_searches']:.0f}, median valid J_c {s['median_J_c']:.5f}")
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "options": codesign.synthesis_options(True, "ball"),
-           "processes": args.processes, "source": args.source, "steps": args.steps, "rows": rows, "summary": summary}
+           "processes": args.processes, "source": args.source, "steps": args.steps, "rows": rows, "summary": result}
     path = ROOT / "benchmarks" / "results" / ("restoration.json" if args.source == "box" else f"restoration_{args.source}.json")
     path.write_text(json.dumps(out, indent=1, default=float) + "\n")
     print(f"saved {path}")

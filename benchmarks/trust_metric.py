@@ -31,24 +31,14 @@ from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import numpy as np  # noqa: E402
-
 from _machine import machine_info  # noqa: E402
+from restoration import cases, summary  # noqa: E402
 from robust_synthesis import grid_design  # noqa: E402
 from lib import codesign, design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
-WARM_FROM = (0.016, 0.019, 0.021, 0.024, 0.028)
 STEPS = (0.00039, 0.001, 0.003)
-COLD = (0.015, 0.02139, 0.03)
-
-
-def _cases(steps: tuple[float, ...], cold: bool) -> list[tuple[str, float, float | None]]:
-    """(name, h [m], warm-start grid point h0 [m] or None for a cold start)."""
-    warm = [(f"warm {100 * h0:.1f} -> {100 * (h0 + dh):.3f} cm", h0 + dh, h0) for h0 in WARM_FROM for dh in steps
-            if h0 + dh <= 0.03 + 1e-12]
-    return warm + ([(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if cold else [])
 
 
 def _run(job: tuple[str, float, float | None, str, int]) -> dict:
@@ -70,23 +60,6 @@ def _run(job: tuple[str, float, float | None, str, int]) -> dict:
             "time_s": wall}
 
 
-def _summary(rows: list[dict], regions: list[str], warm: bool) -> dict:
-    """Per region over the warm (or cold) runs: valid runs, median and largest time, runs under 10 s, median J_c,
-    iterations and searches."""
-    out = {}
-    for region in regions:
-        mine = [r for r in rows if r["trust_region"] == region and (r["warm_from"] is not None) == warm]
-        if not mine:
-            continue
-        out[region] = {"runs": len(mine), "valid": sum(r["success"] for r in mine),
-                       "median_time_s": float(np.median([r["time_s"] for r in mine])),
-                       "max_time_s": max(r["time_s"] for r in mine), "under_10_s": sum(r["time_s"] < 10.0 for r in mine),
-                       "median_J_c": float(np.median([r["J_c"] for r in mine if r["success"]] or [np.inf])),
-                       "median_iterations": float(np.median([r["iterations"] for r in mine])),
-                       "median_searches": float(np.median([r["searches"] for r in mine]))}
-    return out
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--processes", type=int, default=2)
@@ -101,7 +74,7 @@ def main() -> None:
     if args.alone:
         args.processes = 1
     out_name = args.out or ("trust_metric_alone.json" if args.alone else "trust_metric.json")
-    jobs = [(*case, region, 2 if args.alone else 1) for case in _cases(tuple(args.steps), args.cold) for region in args.regions]
+    jobs = [(*case, region, 2 if args.alone else 1) for case in cases(tuple(args.steps), args.cold) for region in args.regions]
     # the longest first (cold starts), so that two processes finish together
     jobs.sort(key=lambda j: (j[2] is not None, -j[1] if j[2] is None else 0))
     with ProcessPoolExecutor(args.processes) as pool:
@@ -109,15 +82,15 @@ def main() -> None:
     for row in rows:
         print(f"{row['case']}, {row['trust_region']}: J_c {row['J_c']:.5f}, Z_c {row['Z_c']:.4f}, valid {row['success']}, "
               f"{row['iterations']} iterations, {row['searches']} searches, {row['time_s']:.1f} s")
-    summary = {"warm": _summary(rows, args.regions, True), "cold": _summary(rows, args.regions, False)}
-    for kind, per in summary.items():
+    result = {kind: summary(rows, "trust_region", args.regions, kind == "warm", iterations=True) for kind in ("warm", "cold")}
+    for kind, per in result.items():
         for region, s in per.items():
             print(f"{kind}, {region}: {s['valid']}/{s['runs']} valid, time median {s['median_time_s']:.1f} s "
                   f"(max {s['max_time_s']:.1f} s, {s['under_10_s']} under 10 s), median J_c {s['median_J_c']:.5f}, "
                   f"median iterations {s['median_iterations']:.0f}, median searches {s['median_searches']:.0f}")
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "processes": args.processes,
            "threads_per_synthesis": 2 if args.alone else 1,
-           "steps": args.steps, "rows": rows, "summary": summary}
+           "steps": args.steps, "rows": rows, "summary": result}
     path = ROOT / "benchmarks" / "results" / out_name
     path.write_text(json.dumps(out, indent=1))
     print(f"saved {path}")

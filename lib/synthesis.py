@@ -1267,12 +1267,13 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
                 # J's subgradient at the step (the peaks' gradients weighted by their multipliers) [1 / gain unit]; after
                 # an accepted step, its change gives the metric's update, and the step is solved again in the new metric
                 # (with the stability rows of its reach). A pair waits for the first solve at the new point
-                grad = weights[0] @ np.array([g for _, g in rpe])
+                grads = np.array([g for _, g in rpe])
+                grad = weights[0] @ grads
                 if last is not None and metric.update(last[0] / base, (grad - last[1]) * base):
                     weights.clear()
                     stab = prob.stability_rows(state, all_plants=False, radius=radius * metric.shape()[1])
                     sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region, metric, weights)
-                    grad = grad if sol is None else weights[0] @ np.array([g for _, g in rpe])
+                    grad = grad if sol is None else weights[0] @ grads
                 last = None
             now, pred = merit(current, z_now), (None if sol is None else sol[1] + _PENALTY * sol[2])
         else:
