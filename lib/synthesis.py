@@ -500,13 +500,20 @@ def search_candidates(thetas_deg: Sequence[float] | None = None) -> list[Scenari
 
 def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, thetas_deg: Sequence[float] | None = None,
                refine: int = 2, max_evals: int = 30, min_decay: float = 1e-7, workers: int | None = None,
-               min_damping: float = 0.0) -> WorstCase:
+               min_damping: float = 0.0, modal_forms: dict[bytes, ModalLoop] | None = None) -> WorstCase:
     """Search the uncertainty box for the worst RPE and effort peaks with a given gain.
 
     Candidates: the 8 corners of (M_SC, Iyy_SC, omega1_SP) and the nominal, at each panel angle of
     ``thetas_deg`` (default 10 angles, every 20 deg from 0 to 180); then the ``refine`` best candidates of each
     group are improved by a bounded Nelder-Mead search over (d_mass, d_iyy, d_omega1, theta), ``max_evals``
     evaluations each.
+
+    ``modal_forms``: a dict (empty at first, then kept by the caller between searches of the same model) in which the
+    grid's plants keep their open-loop modal forms (:class:`lib.modalloop.ModalLoop`), so that the grid is evaluated
+    by the fast path, ``O(n^2)`` per candidate once its form is built, instead of a dense eigen-decomposition each time.
+    The grid's best candidate of each group, and every candidate it finds unstable, are then evaluated again by the
+    dense path, which alone gives the values, scenarios and stability verdicts returned (as do the Nelder-Mead
+    refinements, whose plants are new at every evaluation). Default None: every evaluation dense.
     """
     _check_option("refine", refine, 0, integer=True)
     _check_option("max_evals", max_evals, 1, integer=True)
@@ -526,8 +533,31 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
             unstable.append(sc)
         return lp
 
+    forms: dict[bytes, ModalLoop] = {} if modal_forms is None else modal_forms
+
+    def screen(sc: Scenario) -> LoopPeaks:  # a grid candidate by the fast path, its modal form built at first use
+        key = sc.vector().tobytes()
+        if key not in forms:
+            forms[key] = ModalLoop.of(plant_at(model, sc, inertia_p1, settings))
+        form = forms[key]
+        return loop_peaks(form.plant, gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping, lazy_cap=True,
+                          passive_near=near, modal=form)
+
     with _workers(workers) as pmap:
-        table = list(zip(cands, pmap(evaluate, cands)))
+        if modal_forms is None:
+            table = list(zip(cands, pmap(evaluate, cands)))
+        else:  # the fast path on the grid, then the dense path on its best candidates and on those it finds unstable
+            table = list(zip(cands, pmap(screen, cands)))
+            dense: set[int] = set()
+            redo = [i for i, (_, lp) in enumerate(table) if not lp.stable]
+            while True:  # until the best of each group is a dense value
+                redo = sorted(set(redo) | {max(range(len(table)), key=lambda i: table[i][1].norm(g)) for g in GROUPS} - dense)
+                if not redo:
+                    break
+                for i, lp in zip(redo, pmap(evaluate, [table[i][0] for i in redo])):
+                    table[i] = (table[i][0], lp)
+                dense.update(redo)
+                evals, redo = evals + len(redo), []
         evals += len(cands)
         value, worst, omega = {}, {}, {}
         for group in GROUPS:
@@ -880,7 +910,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
                min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
-               verbose: bool = False, fast: bool = False, trust_region: str = "box", restoration: str = "minmax") -> SynthesisResult:
+               verbose: bool = False, fast: bool = False, trust_region: str = "box", restoration: str = "minmax",
+               max_unstable: int = 1, fast_search: bool = False, search_max_evals: int = 30) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
 
     Parameters
@@ -970,13 +1001,27 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         (``benchmarks/warm_start.py``): one min-max step that stabilised a scenario the search added (abscissa 2.7e-3 to
         -5.0e-3 1/s, 5e4 times the required margin) took J from 0.018 to 0.071 and Z to 1.09, and the synthesis ended
         not converged with J_c 0.12 after 6 rounds.
+    max_unstable : int
+        Unstable scenarios (no two within :data:`_NEAR` of each other) that a round adds from its search (default 1,
+        every stored result). A warm start can meet several at once: on 1.6 -> 1.639 cm the first search found 6, and
+        adding one per round took three rounds to clear them.
+    fast_search : bool
+        Evaluate the worst-case search's grid by the fast path, each grid plant's modal form kept from one search to
+        the next (``modal_forms`` of :func:`worst_case`); its best candidates and those it finds unstable are evaluated
+        again densely, so the search's results stay the dense path's. Default False (every stored result).
+    search_max_evals : int
+        Nelder-Mead evaluations per refinement of the worst-case search (``max_evals`` of :func:`worst_case`; default
+        30, every stored result). Measured on 10 stored designs (``benchmarks/search_refinement.py``): 10 evaluations
+        leave the worst cases within 0.11 % (RPE) and 0.91 % (effort) of 30's.
+        These three options and their effect on warm starts: ``benchmarks/warm_search.py`` (README).
     """
     t0 = time.perf_counter()
     _check_scalar_options(min_damping=min_damping, omega_check=omega_check, min_damping_all=min_damping_all,
                           search_damping=search_damping, max_iter=max_iter, max_rounds=max_rounds,
                           search_thetas_deg=search_thetas_deg, min_decay=min_decay, band=band, margin=margin, tol=tol,
                           cover_tol=cover_tol, radius0=radius0, workers=workers, trust_region=trust_region,
-                          restoration=restoration)
+                          restoration=restoration, max_unstable=max_unstable, fast_search=fast_search,
+                          search_max_evals=search_max_evals)
     settings = settings or LoopSettings.from_parameters()
     gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
@@ -1006,6 +1051,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                         min_damping_all, chunk=_n_workers(workers), fast=fast, trust_region=trust_region,
                         restoration=restoration)
         state = None
+        # fast_search: each loop's grid plants keep their modal forms from one search to the next
+        grid_forms: list[dict | None] = [{} if fast_search else None for _ in loops]
         for round_ in range(max_rounds):
             # the first round evaluates the set at the starting gain; a later one starts from the last round's state, at
             # the same gain, with only the scenarios its search added still to evaluate
@@ -1017,10 +1064,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             state, at_limit = _optimise(prob, state)
             gain = state.gain
             worst = _merge([worst_case(m, gain, inertia, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
-                                       min_damping=search_damping * min_damping_all) for m, inertia in loops])
+                                       min_damping=search_damping * min_damping_all, max_evals=search_max_evals,
+                                       modal_forms=forms) for (m, inertia), forms in zip(loops, grid_forms)])
             prob.evaluations += worst.evaluations
             searches += 1
-            added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin)
+            added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin, max_unstable)
             if verbose:
                 print(f"round {round_}: {len(prob.plants)} scenario plants, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
                       f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
@@ -1049,7 +1097,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
 
 def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damping, max_iter, max_rounds, search_thetas_deg,
                           min_decay, band, margin, tol, cover_tol, radius0, workers, trust_region="box",
-                          restoration="minmax") -> None:
+                          restoration="minmax", max_unstable=1, fast_search=False, search_max_evals=30) -> None:
     """The checks of :func:`synthesize`'s scalar options (before anything is computed)."""
     if not (isinstance(trust_region, str) and trust_region in ("box", "ball", "bfgs")):
         raise ValueError(f"trust_region must be 'box', 'ball' or 'bfgs', got {trust_region!r}")
@@ -1066,6 +1114,10 @@ def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damp
     _check_option("radius0", radius0, 0.0, open_low=True)
     _check_option("max_iter", max_iter, 1, integer=True)
     _check_option("max_rounds", max_rounds, 1, integer=True)
+    _check_option("max_unstable", max_unstable, 1, integer=True)
+    _check_option("search_max_evals", search_max_evals, 1, integer=True)
+    if not isinstance(fast_search, (bool, np.bool_)):
+        raise TypeError(f"fast_search must be True or False, got {fast_search!r}")
     if search_thetas_deg is not None:  # else checked by the first worst-case search, after a round of optimisation
         _thetas_deg(search_thetas_deg, "search_thetas_deg")
     _n_workers(workers)
@@ -1181,16 +1233,28 @@ class _Problem:
         return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
 
 
-def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin: float) -> list[Scenario]:
-    """Scenarios of the search that the set does not cover: unstable ones, and worse J or Z than the set's."""
-    added = worst.unstable[:1]
+def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin: float, max_unstable: int = 1) -> list[Scenario]:
+    """Scenarios of the search that the set does not cover: unstable ones (at most ``max_unstable``, no two within
+    :data:`_NEAR` of each other), and the worst J or Z if worse than the set's."""
+    added = _distinct(worst.unstable, _NEAR)[:max_unstable]
     if worst.value["rpe"] > state.value("rpe") * (1 + tol):
         added.append(worst.scenario["rpe"])
     if worst.value["effort"] > max(state.value("effort") * (1 + tol), gamma * (1 - margin)):
         added.append(worst.scenario["effort"])
+    return _distinct(added)  # an unstable scenario is often also the worst J and Z (all inf): add it once
+
+
+# two unstable scenarios closer than this in every coordinate (normalised mass, Iyy, omega1; theta [rad]) count as one
+_NEAR = np.array([0.1, 0.1, 0.1, np.deg2rad(5.0)])
+
+
+def _distinct(scenarios: Sequence[Scenario], near: NDArray | None = None) -> list[Scenario]:
+    """The scenarios without repeats, in their order: no two equal, or with ``near``, no two closer than it in every
+    coordinate."""
     unique: list[Scenario] = []
-    for sc in added:  # an unstable scenario is often also the worst J and Z (all inf): add it once
-        if not any(np.array_equal(sc.vector(), u.vector()) for u in unique):
+    for sc in scenarios:
+        x = sc.vector()
+        if not any(np.array_equal(x, u.vector()) if near is None else np.all(np.abs(x - u.vector()) < near) for u in unique):
             unique.append(sc)
     return unique
 

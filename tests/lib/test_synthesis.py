@@ -115,6 +115,24 @@ def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypa
         assert own.scenario[group] == ref.scenario[group]
 
 
+def test_worst_case_with_cached_modal_forms_equals_the_dense_search(model, inertia):
+    """A grid evaluated by the fast path (its modal forms kept in the caller's dict and reused by the next search at
+    another gain) returns what the dense search returns: its best candidates are evaluated again densely. Its unstable
+    candidates are confirmed densely as well (the first gain leaves all 27 stable, the second 9 unstable)."""
+    kw = dict(thetas_deg=[0.0, 70.0, 140.0], refine=1, max_evals=8, workers=1, min_damping=1.5e-4)
+    forms: dict = {}
+    for gain, n_unstable in ((GAIN, 0), (-GAIN, 9)):
+        dense = synthesis.worst_case(model, gain, inertia, ST, **kw)
+        fast = synthesis.worst_case(model, gain, inertia, ST, modal_forms=forms, **kw)
+        assert len(dense.unstable) == n_unstable
+        assert len(forms) == 27  # 9 corners and nominal x 3 angles, built once
+        for group in synthesis.GROUPS:
+            assert fast.value[group] == dense.value[group] and fast.omega[group] == dense.omega[group]
+            assert fast.scenario[group] == dense.scenario[group]
+        assert sorted(sc.vector().tobytes() for sc in fast.unstable) == sorted(sc.vector().tobytes() for sc in dense.unstable)
+        assert fast.evaluations > dense.evaluations  # the dense re-evaluations are counted
+
+
 def test_scenarios():
     sc = Scenario(1.0, -1.0, 0.5, np.pi / 2)
     assert np.isclose(sc.normalized()["tau"], np.tan(np.pi / 8))
@@ -415,7 +433,9 @@ def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     ("max_iter", 0, ValueError), ("max_rounds", 2.5, TypeError), ("tol", 0.0, ValueError), ("band", 1.5, ValueError),
     ("margin", 1.0, ValueError), ("min_damping_all", -1e-4, ValueError), ("search_damping", 2.0, ValueError),
     ("radius0", float("nan"), ValueError), ("workers", 0, ValueError), ("min_decay", "1e-7", TypeError),
-    ("trust_region", "sphere", ValueError), ("trust_region", None, ValueError), ("restoration", "smallest", ValueError)])
+    ("trust_region", "sphere", ValueError), ("trust_region", None, ValueError), ("restoration", "smallest", ValueError),
+    ("max_unstable", 0, ValueError), ("max_unstable", 1.5, TypeError), ("search_max_evals", 0, ValueError),
+    ("fast_search", "yes", TypeError)])
 def test_synthesis_options_are_checked_before_any_work(option, value, error):
     """A bad option is named with its allowed range before any model is touched (the model here is not even one)."""
     with pytest.raises(error, match=option):
@@ -493,6 +513,18 @@ def test_uncovered_adds_unstable_and_worse_scenarios_only():
     assert synthesis._uncovered(state, search(0.10, 0.5, [s_u, s_v]), 1.0, 0.01, 0.02) == [s_u]
     both = synthesis.WorstCase({"rpe": np.inf, "effort": np.inf}, {"rpe": s_u, "effort": s_u}, {"rpe": 1.0, "effort": 1.0}, 1, [s_u])
     assert synthesis._uncovered(state, both, 1.0, 0.01, 0.02) == [s_u]
+
+
+def test_uncovered_adds_several_distinct_unstable_scenarios_when_asked():
+    """``max_unstable``: up to that many unstable scenarios, in the search's order, one of any two within _NEAR."""
+    s_u, s_v, s_w = Scenario(0, 1.0, 0, 0.3), Scenario(0, -1.0, 0, 0.4), Scenario(0, 1.0, 0, 1.2)
+    near_u = Scenario(0.05, 0.95, 0, 0.3 + np.deg2rad(4.0))
+    search = synthesis.WorstCase({"rpe": np.inf, "effort": np.inf}, {"rpe": s_u, "effort": s_u}, {"rpe": 1.0, "effort": 1.0}, 1,
+                                 [s_u, near_u, s_v, s_w])
+    state = _SetValues(0.10, 0.90)
+    assert synthesis._uncovered(state, search, 1.0, 0.01, 0.02) == [s_u]
+    assert synthesis._uncovered(state, search, 1.0, 0.01, 0.02, max_unstable=2) == [s_u, s_v]
+    assert synthesis._uncovered(state, search, 1.0, 0.01, 0.02, max_unstable=10) == [s_u, s_v, s_w]
 
 
 def test_per_group_evaluates_each_point_with_its_own_group():

@@ -1,0 +1,118 @@
+"""Benchmark: a cheaper worst-case search for warm starts (``fast_search``, ``search_max_evals``, ``max_unstable``).
+
+A warm start from a neighbouring design takes 1-6 rounds, each ending with a dense worst-case search over the
+uncertainty box (90 grid candidates, then four Nelder-Mead refinements of up to 31 evaluations): 35-50 % of its time.
+Three options of :func:`lib.synthesis.synthesize` make the search cheaper or the rounds fewer:
+
+* ``fast_search``: the grid by the fast path, each grid plant's modal form kept from one search to the next; the best
+  candidates and those found unstable evaluated again densely (the search's results stay the dense path's);
+* ``search_max_evals = 10``: shorter refinements (``benchmarks/search_refinement.py``: worst cases within 0.11 % (RPE)
+  and 0.91 % (effort) of 30's at 10 stored designs);
+* ``max_unstable = 4``: a round adds up to four distinct unstable scenarios its search found, not one.
+
+This script runs notebook 07's options (co-design tolerance, fast path, ball, least-change restoration) with and
+without those three on the warm starts of ``benchmarks/restoration.py`` (the stored co-design grid's designs at 1.6,
+1.9, 2.1, 2.4 and 2.8 cm, gain and scenario set, to h + 0.39 mm, + 1 mm and + 3 mm) and the cold start at 2.139 cm,
+each synthesis alone on the machine with two threads (the synthesis issue's setting for its "under 10 s" and "under
+60 s"), the two variants of a case one after the other. It records J_c, Z_c, validity, iterations, searches, the time
+and the time spent in the searches, prints a line per run and a summary, and saves
+benchmarks/results/warm_search.json.
+Run: python benchmarks/warm_search.py [--steps 0.00039 0.001 0.003] [--no-cold]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from _machine import machine_info  # noqa: E402
+from restoration import cases, summary  # noqa: E402
+from robust_synthesis import grid_design  # noqa: E402
+from lib import codesign, design, synthesis  # noqa: E402
+from lib.closedloop import LoopSettings  # noqa: E402
+
+ROOT = Path(__file__).parents[1]
+STEPS = (0.00039, 0.001, 0.003)
+VARIANTS: dict[str, dict] = {"reference": {},
+                             "cheaper search": {"fast_search": True, "search_max_evals": 10, "max_unstable": 4}}
+COLD = (0.02139,)
+
+
+def _run(name: str, h: float, h0: float | None, variant: str) -> dict:
+    """One synthesis of a case with a variant's options, two threads; its record, with the time spent searching."""
+    from threadpoolctl import threadpool_limits
+
+    kw: dict = dict(codesign.synthesis_options(True, "ball", "least_change") or {}, **VARIANTS[variant])
+    if h0 is not None:
+        rec, scen = grid_design(h0, "ball")
+        kw.update(gain0=rec["gain"], scenarios=scen)
+    searching = [0.0]
+    search = synthesis.worst_case
+
+    def timed(*args, **kwargs):
+        t = time.perf_counter()
+        try:
+            return search(*args, **kwargs)
+        finally:
+            searching[0] += time.perf_counter() - t
+
+    synthesis.worst_case = timed  # synthesize looks it up in its module at every round
+    try:
+        with threadpool_limits(1):
+            models = design.models_at(h)
+            t0 = time.perf_counter()
+            res = design.robust_design(models, LoopSettings.from_parameters(), workers=2, **kw)
+            wall = time.perf_counter() - t0
+    finally:
+        synthesis.worst_case = search
+    return {"case": name, "h": h, "warm_from": h0, "variant": variant, "J_c": res.j_c, "Z_c": res.z_c,
+            "success": res.success, "message": res.message, "iterations": res.iterations, "searches": res.searches,
+            "scenarios": len(res.scenarios), "time_s": wall, "search_time_s": searching[0]}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--steps", type=float, nargs="+", default=list(STEPS))
+    parser.add_argument("--cold", action=argparse.BooleanOptionalAction, default=True)
+    args = parser.parse_args()
+    todo = [c for c in cases(tuple(args.steps), False)] + ([(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if args.cold else [])
+    rows = []
+    for name, h, h0 in todo:
+        for variant in VARIANTS:
+            row = _run(name, h, h0, variant)
+            rows.append(row)
+            print(f"{name}, {variant}: J_c {row['J_c']:.5f}, Z_c {row['Z_c']:.4f}, valid {row['success']}, "
+                  f"{row['iterations']} iterations, {row['searches']} searches, {row['time_s']:.1f} s "
+                  f"(searching {row['search_time_s']:.1f} s)", flush=True)
+    result = {kind: summary(rows, "variant", list(VARIANTS), kind == "warm", iterations=True) for kind in ("warm", "cold")}
+    for kind, per in result.items():
+        for variant, s in per.items():
+            mine = [r for r in rows if r["variant"] == variant and (r["warm_from"] is not None) == (kind == "warm")]
+            s["total_time_s"] = sum(r["time_s"] for r in mine)
+            s["total_search_time_s"] = sum(r["search_time_s"] for r in mine)
+            print(f"{kind}, {variant}: {s['valid']}/{s['runs']} valid, time median {s['median_time_s']:.1f} s "
+                  f"(max {s['max_time_s']:.1f} s, total {s['total_time_s']:.0f} s of which searching "
+                  f"{s['total_search_time_s']:.0f} s, {s['under_10_s']} under 10 s), median J_c {s['median_J_c']:.5f}, "
+                  f"median iterations {s['median_iterations']:.0f}, median searches {s['median_searches']:.0f}")
+    ref = {r["case"]: r for r in rows if r["variant"] == "reference"}
+    ratios = [(r["time_s"] / ref[r["case"]]["time_s"], r["J_c"] / ref[r["case"]]["J_c"] - 1.0)
+              for r in rows if r["variant"] != "reference" and r["warm_from"] is not None]
+    if ratios:
+        result["warm_case_by_case"] = {"median_time_ratio": float(sorted(t for t, _ in ratios)[len(ratios) // 2]),
+                                       "J_c_change_min": min(j for _, j in ratios), "J_c_change_max": max(j for _, j in ratios)}
+        print(f"warm, case by case: median time ratio {result['warm_case_by_case']['median_time_ratio']:.2f}, J_c change "
+              f"{100 * result['warm_case_by_case']['J_c_change_min']:+.1f} to {100 * result['warm_case_by_case']['J_c_change_max']:+.1f} %")
+    out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "threads_per_synthesis": 2,
+           "variants": VARIANTS, "steps": args.steps, "rows": rows, "summary": result}
+    path = ROOT / "benchmarks" / "results" / "warm_search.json"
+    path.write_text(json.dumps(out, indent=1))
+    print(f"saved {path}")
+
+
+if __name__ == "__main__":
+    main()
