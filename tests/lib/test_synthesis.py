@@ -116,21 +116,34 @@ def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypa
 
 
 def test_worst_case_with_cached_modal_forms_equals_the_dense_search(model, inertia):
-    """A grid evaluated by the fast path (its modal forms kept in the caller's dict and reused by the next search at
-    another gain) returns what the dense search returns: its best candidates are evaluated again densely. Its unstable
-    candidates are confirmed densely as well (the first gain leaves all 27 stable, the second 9 unstable)."""
-    kw = dict(thetas_deg=[0.0, 70.0, 140.0], refine=1, max_evals=8, workers=1, min_damping=1.5e-4)
+    """A grid evaluated by the fast path (its modal forms kept in the caller's dict and reused, the same objects, by the
+    next search at another gain) returns what the dense search returns, on two threads with two refinements per group:
+    the refinements' starts are evaluated again densely, and so are the unstable candidates (the first gain leaves all
+    27 stable, the second 9 unstable), listed in the grid's order."""
+    kw = dict(thetas_deg=[0.0, 70.0, 140.0], refine=2, max_evals=8, workers=2, min_damping=1.5e-4)
     forms: dict = {}
     for gain, n_unstable in ((GAIN, 0), (-GAIN, 9)):
         dense = synthesis.worst_case(model, gain, inertia, ST, **kw)
+        before = {k: id(v) for k, v in forms.items()}
         fast = synthesis.worst_case(model, gain, inertia, ST, modal_forms=forms, **kw)
-        assert len(dense.unstable) == n_unstable
-        assert len(forms) == 27  # 9 corners and nominal x 3 angles, built once
+        assert len(dense.unstable) == n_unstable and len(forms) == 27  # 8 corners and the nominal x 3 angles
+        assert all(id(forms[k]) == v for k, v in before.items())  # built once
         for group in synthesis.GROUPS:
             assert fast.value[group] == dense.value[group] and fast.omega[group] == dense.omega[group]
             assert fast.scenario[group] == dense.scenario[group]
-        assert sorted(sc.vector().tobytes() for sc in fast.unstable) == sorted(sc.vector().tobytes() for sc in dense.unstable)
-        assert fast.evaluations > dense.evaluations  # the dense re-evaluations are counted
+        assert [sc.vector().tobytes() for sc in fast.unstable] == [sc.vector().tobytes() for sc in dense.unstable]
+
+
+def test_worst_case_with_modal_forms_evaluates_close_calls_again(model, inertia, monkeypatch):
+    """A candidate the fast path finds stable but near the requirement is evaluated again densely: with the band made
+    wide enough to hold every pole, every grid candidate is, on top of the dense search's own evaluations."""
+    kw = dict(thetas_deg=[0.0, 90.0], refine=1, max_evals=4, workers=1, min_damping=1.5e-4)
+    dense = synthesis.worst_case(model, GAIN, inertia, ST, **kw)
+    narrow = synthesis.worst_case(model, GAIN, inertia, ST, modal_forms={}, **kw)
+    monkeypatch.setattr(synthesis, "_CLOSE_CALL", 1.0)
+    wide = synthesis.worst_case(model, GAIN, inertia, ST, modal_forms={}, **kw)
+    assert narrow.evaluations < dense.evaluations + 18 == wide.evaluations
+    assert wide.value == dense.value and wide.scenario == dense.scenario
 
 
 def test_scenarios():
