@@ -57,23 +57,31 @@ def cases(steps: tuple[float, ...] = STEPS, cold: bool = True) -> list[tuple[str
     return warm + ([(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if cold else [])
 
 
-def _run(job: tuple[str, float, float | None, str, str]) -> dict:
-    """One synthesis of a case with a restoration mode, warm starts from a grid ``source``; its record."""
+def run_case(name: str, h: float, h0: float | None, options: dict, workers: int, source: str = "ball", **key) -> dict:
+    """One synthesis of a case (``h`` [m], warm-started from the grid ``source``'s design at ``h0`` [m], its gain and
+    scenario set, or cold if None) with ``options`` for :func:`lib.design.robust_design` and ``workers`` threads, BLAS on
+    one thread; its record: ``key`` (the variant, e.g. ``restoration="minmax"``), J_c, Z_c, validity, iterations,
+    searches and the synthesis's wall time [s] (the model's build left out)."""
     from threadpoolctl import threadpool_limits
 
-    name, h, h0, mode, source = job
-    settings = LoopSettings.from_parameters()
-    kw: dict = dict(codesign.synthesis_options(True, "ball", mode) or {})
+    kw = dict(options)
     if h0 is not None:
         rec, scen = grid_design(h0, source)
         kw.update(gain0=rec["gain"], scenarios=scen)
     with threadpool_limits(1):
         models = design.models_at(h)
         t0 = time.perf_counter()
-        res = design.robust_design(models, settings, workers=1, **kw)
+        res = design.robust_design(models, LoopSettings.from_parameters(), workers=workers, **kw)
         wall = time.perf_counter() - t0
-    return {"case": name, "h": h, "warm_from": h0, "restoration": mode, "J_c": res.j_c, "Z_c": res.z_c, "success": res.success,
-            "message": res.message, "iterations": res.iterations, "searches": res.searches, "time_s": wall}
+    return {"case": name, "h": h, "warm_from": h0, **key, "J_c": res.j_c, "Z_c": res.z_c, "success": res.success,
+            "message": res.message, "iterations": res.iterations, "searches": res.searches, "scenarios": len(res.scenarios),
+            "time_s": wall}
+
+
+def _run(job: tuple[str, float, float | None, str, str]) -> dict:
+    """One synthesis of a case with a restoration mode, warm starts from a grid ``source``; its record."""
+    name, h, h0, mode, source = job
+    return run_case(name, h, h0, codesign.synthesis_options(True, "ball", mode) or {}, 1, source, restoration=mode)
 
 
 def summary(rows: list[dict], key: str, variants: Sequence[str], warm: bool, iterations: bool = False) -> dict:

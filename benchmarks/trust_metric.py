@@ -25,17 +25,14 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from _machine import machine_info  # noqa: E402
-from restoration import cases, summary  # noqa: E402
-from robust_synthesis import grid_design  # noqa: E402
-from lib import codesign, design, synthesis  # noqa: E402
-from lib.closedloop import LoopSettings  # noqa: E402
+from restoration import cases, run_case, summary  # noqa: E402
+from lib import codesign, synthesis  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
 STEPS = (0.00039, 0.001, 0.003)
@@ -43,21 +40,9 @@ STEPS = (0.00039, 0.001, 0.003)
 
 def _run(job: tuple[str, float, float | None, str, int]) -> dict:
     """One synthesis of a case with a trust region and a number of threads (``workers``); its record."""
-    from threadpoolctl import threadpool_limits
-
     name, h, h0, region, workers = job
-    kw: dict = dict(codesign.synthesis_options(True, "ball", "least_change") or {}, trust_region=region)
-    if h0 is not None:
-        rec, scen = grid_design(h0, "ball")
-        kw.update(gain0=rec["gain"], scenarios=scen)
-    with threadpool_limits(1):
-        models = design.models_at(h)
-        t0 = time.perf_counter()
-        res = design.robust_design(models, LoopSettings.from_parameters(), workers=workers, **kw)
-        wall = time.perf_counter() - t0
-    return {"case": name, "h": h, "warm_from": h0, "trust_region": region, "J_c": res.j_c, "Z_c": res.z_c,
-            "success": res.success, "message": res.message, "iterations": res.iterations, "searches": res.searches,
-            "time_s": wall}
+    options = dict(codesign.synthesis_options(True, "ball", "least_change") or {}, trust_region=region)
+    return run_case(name, h, h0, options, workers, trust_region=region)
 
 
 def main() -> None:

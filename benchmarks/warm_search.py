@@ -33,7 +33,7 @@ import numpy as np
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from _machine import machine_info  # noqa: E402
-from restoration import cases, summary  # noqa: E402
+from restoration import cases, run_case, summary  # noqa: E402
 from robust_synthesis import grid_design  # noqa: E402
 from lib import codesign, design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
@@ -47,12 +47,6 @@ COLD = (0.02139,)
 
 def _run(name: str, h: float, h0: float | None, variant: str) -> dict:
     """One synthesis of a case with a variant's options, two threads; its record, with the time spent searching."""
-    from threadpoolctl import threadpool_limits
-
-    kw: dict = dict(codesign.synthesis_options(True, "ball", "least_change") or {}, **VARIANTS[variant])
-    if h0 is not None:
-        rec, scen = grid_design(h0, "ball")
-        kw.update(gain0=rec["gain"], scenarios=scen)
     searching = [0.0]
     search = synthesis.worst_case
 
@@ -65,16 +59,11 @@ def _run(name: str, h: float, h0: float | None, variant: str) -> dict:
 
     synthesis.worst_case = timed  # synthesize looks it up in its module at every round
     try:
-        with threadpool_limits(1):
-            models = design.models_at(h)
-            t0 = time.perf_counter()
-            res = design.robust_design(models, LoopSettings.from_parameters(), workers=2, **kw)
-            wall = time.perf_counter() - t0
+        options = dict(codesign.synthesis_options(True, "ball", "least_change") or {}, **VARIANTS[variant])
+        row = run_case(name, h, h0, options, 2, variant=variant)
     finally:
         synthesis.worst_case = search
-    return {"case": name, "h": h, "warm_from": h0, "variant": variant, "J_c": res.j_c, "Z_c": res.z_c,
-            "success": res.success, "message": res.message, "iterations": res.iterations, "searches": res.searches,
-            "scenarios": len(res.scenarios), "time_s": wall, "search_time_s": searching[0]}
+    return {**row, "search_time_s": searching[0]}
 
 
 def _thread_scaling(h: float = 0.02139, h0: float = 0.021, repeats: int = 10) -> dict:

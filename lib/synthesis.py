@@ -531,9 +531,12 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     # the least damped passive pole of the nominal plant: near it, each scenario's cap is bounded cheaply (loop_peaks)
     near = plant_at(model, Scenario(), inertia_p1, settings).passive_pole() if min_damping > 0 else None
 
+    def peaks(plant: GeneralizedPlant, groups: Sequence[str] = GROUPS, modal: ModalLoop | None = None) -> LoopPeaks:
+        return loop_peaks(plant, gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping, lazy_cap=True, groups=groups,
+                          passive_near=near, modal=modal)
+
     def evaluate(sc: Scenario, groups: Sequence[str] = GROUPS, met: list[Scenario] | None = None) -> LoopPeaks:
-        lp = loop_peaks(plant_at(model, sc, inertia_p1, settings), gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping,
-                        lazy_cap=True, groups=groups, passive_near=near)
+        lp = peaks(plant_at(model, sc, inertia_p1, settings), groups)
         if met is not None and not lp.stable:
             met.append(sc)
         return lp
@@ -544,9 +547,7 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
         key = sc.vector().tobytes()
         if key not in forms:
             forms[key] = ModalLoop.of(plant_at(model, sc, inertia_p1, settings))
-        form = forms[key]
-        return loop_peaks(form.plant, gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping, lazy_cap=True,
-                          passive_near=near, modal=form)
+        return peaks(forms[key].plant, modal=forms[key])
 
     with _workers(workers) as pmap:
         if modal_forms is None:
