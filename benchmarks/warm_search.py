@@ -10,13 +10,19 @@ Three options of :func:`lib.synthesis.synthesize` make the search cheaper or the
   and 0.91 % (effort) of 30's at 10 stored designs);
 * ``max_unstable = 4``: a round adds up to four distinct unstable scenarios its search found, not one.
 
-This script runs notebook 07's options (co-design tolerance, fast path, ball, least-change restoration) with and
-without those three on the warm starts of ``benchmarks/restoration.py`` (the stored co-design grid's designs at 1.6,
+and two make each evaluation cheaper (the same steps, to 1e-8 of the values or to the last bit):
+
+* ``peak_refine = "parabolic"``: each peak refined by 8 parabolic steps instead of 85 nested-grid points;
+* ``processes = True``: the optimiser's fast-path evaluations on a worker process and this one instead of two threads
+  (:mod:`lib.modalpool`), the same values to the last bit.
+
+This script runs notebook 07's options (co-design tolerance, fast path, ball, least-change restoration) alone and
+with those options added in turn on the warm starts of ``benchmarks/restoration.py`` (the stored co-design grid's designs at 1.6,
 1.9, 2.1, 2.4 and 2.8 cm, gain and scenario set, to h + 0.39 mm, + 1 mm and + 3 mm) and the cold start at 2.139 cm,
 each synthesis alone on the machine with two threads (the synthesis issue's setting for its "under 10 s" and "under
-60 s"), the two variants of a case one after the other. It records J_c, Z_c, validity, iterations, searches, the time
-and the time spent in the searches, and how much two threads speed up the optimiser's fast-path evaluations; prints a
-line per run and a summary, and saves benchmarks/results/warm_search.json.
+60 s"), the variants of a case one after the other. It records J_c, Z_c, validity, iterations, searches, the time
+and the time spent in the searches, and how much two threads, or a worker process and this one, speed up the
+optimiser's fast-path evaluations; prints a line per run and a summary, and saves benchmarks/results/warm_search.json.
 Run: python benchmarks/warm_search.py [--steps 0.00039 0.001 0.003] [--no-cold]
 """
 
@@ -37,11 +43,15 @@ from restoration import cases, run_case, summary  # noqa: E402
 from robust_synthesis import grid_design  # noqa: E402
 from lib import codesign, design, synthesis  # noqa: E402
 from lib.closedloop import LoopSettings  # noqa: E402
+from lib.modalpool import shared_pool  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
 STEPS = (0.00039, 0.001, 0.003)
+CHEAPER = {"fast_search": True, "search_max_evals": 10, "max_unstable": 4}
 VARIANTS: dict[str, dict] = {"reference": {},
-                             "cheaper search": {"fast_search": True, "search_max_evals": 10, "max_unstable": 4}}
+                             "cheaper search": CHEAPER,
+                             "+ parabolic peaks": {**CHEAPER, "peak_refine": "parabolic"},
+                             "+ parabolic peaks, processes": {**CHEAPER, "peak_refine": "parabolic", "processes": True}}
 COLD = (0.02139,)
 
 
@@ -68,8 +78,9 @@ def _run(name: str, h: float, h0: float | None, variant: str) -> dict:
 
 def _thread_scaling(h: float = 0.02139, h0: float = 0.021, repeats: int = 10) -> dict:
     """Time of one fast-path evaluation of the optimiser (:func:`lib.synthesis.loop_peaks` with a modal form) of each plant
-    of a warm start's scenario set (the grid's design at ``h0`` [m], evaluated at ``h``), on one and on two threads, at
-    gains 0.1 % apart as trust-region steps [ms per plant]."""
+    of a warm start's scenario set (the grid's design at ``h0`` [m], evaluated at ``h``), on one and on two threads, and
+    (parabolic peaks) on one thread, two threads and a worker process with this one, at gains 0.1 % apart as trust-region
+    steps [ms per plant]."""
     from concurrent.futures import ThreadPoolExecutor
 
     from threadpoolctl import threadpool_limits
@@ -84,19 +95,28 @@ def _thread_scaling(h: float = 0.02139, h0: float = 0.021, repeats: int = 10) ->
     gain = np.array(rec["gain"])
     rng = np.random.default_rng(0)
 
-    def one(i: int, k: np.ndarray) -> None:
-        synthesis.loop_peaks(plants[i], k, min_damping=2e-4, modal=forms[i])
+    def one(i: int, k: np.ndarray, refine: str = "zoom") -> None:
+        synthesis.loop_peaks(plants[i], k, min_damping=2e-4, modal=forms[i], peak_refine=refine)
 
     for i in range(len(plants)):  # the first call of a form starts its poles from the open loop's
         one(i, gain)
     out = {}
-    with threadpool_limits(1), ThreadPoolExecutor(2) as pool:
-        for threads in (1, 2):
-            t0 = time.perf_counter()
-            for _ in range(repeats):
-                k = gain * (1 + 1e-3 * rng.standard_normal(gain.shape))
-                list((map if threads == 1 else pool.map)(lambda i: one(i, k), range(len(plants))))
-            out[str(threads)] = 1e3 * (time.perf_counter() - t0) / (repeats * len(plants))
+    processes = shared_pool(1)
+    try:
+        with threadpool_limits(1), ThreadPoolExecutor(2) as pool:
+            synthesis._pool_peaks(processes, plants, forms, gain, min_damping=2e-4)  # the worker builds its forms
+            for name, refine, how in (("1", "zoom", "thread"), ("2", "zoom", "threads"), ("1 parabolic", "parabolic", "thread"),
+                                      ("2 parabolic", "parabolic", "threads"), ("process parabolic", "parabolic", "process")):
+                t0 = time.perf_counter()
+                for _ in range(repeats):
+                    k = gain * (1 + 1e-3 * rng.standard_normal(gain.shape))
+                    if how == "process":
+                        synthesis._pool_peaks(processes, plants, forms, k, min_damping=2e-4, peak_refine=refine)
+                    else:
+                        list((map if how == "thread" else pool.map)(lambda i: one(i, k, refine), range(len(plants))))
+                out[name] = 1e3 * (time.perf_counter() - t0) / (repeats * len(plants))
+    finally:
+        processes.forget()
     return {"h": h, "plants": len(plants), "ms_per_plant": out}
 
 
@@ -125,16 +145,19 @@ def main() -> None:
                   f"{s['total_search_time_s']:.0f} s, {s['under_10_s']} under 10 s), median J_c {s['median_J_c']:.5f}, "
                   f"median iterations {s['median_iterations']:.0f}, median searches {s['median_searches']:.0f}")
     ref = {r["case"]: r for r in rows if r["variant"] == "reference"}
-    ratios = [(r["time_s"] / ref[r["case"]]["time_s"], r["J_c"] / ref[r["case"]]["J_c"] - 1.0)
-              for r in rows if r["variant"] != "reference" and r["warm_from"] is not None]
-    if ratios:
-        result["warm_case_by_case"] = {"median_time_ratio": float(np.median([t for t, _ in ratios])),
-                                       "J_c_change_min": min(j for _, j in ratios), "J_c_change_max": max(j for _, j in ratios)}
-        print(f"warm, case by case: median time ratio {result['warm_case_by_case']['median_time_ratio']:.2f}, J_c change "
-              f"{100 * result['warm_case_by_case']['J_c_change_min']:+.1f} to {100 * result['warm_case_by_case']['J_c_change_max']:+.1f} %")
+    result["warm_case_by_case"] = {}
+    for variant in list(VARIANTS)[1:]:
+        ratios = [(r["time_s"] / ref[r["case"]]["time_s"], r["J_c"] / ref[r["case"]]["J_c"] - 1.0)
+                  for r in rows if r["variant"] == variant and r["warm_from"] is not None and r["case"] in ref]
+        if ratios:
+            c = result["warm_case_by_case"][variant] = {
+                "median_time_ratio": float(np.median([t for t, _ in ratios])), "J_c_change_min": min(j for _, j in ratios),
+                "J_c_change_max": max(j for _, j in ratios)}
+            print(f"warm, case by case, {variant} against the reference: median time ratio {c['median_time_ratio']:.2f}, "
+                  f"J_c change {100 * c['J_c_change_min']:+.1f} to {100 * c['J_c_change_max']:+.1f} %")
     scaling = _thread_scaling()
-    print(f"the optimiser's evaluations (fast path, {scaling['plants']} scenario plants at {100 * scaling['h']:.3f} cm): "
-          f"{scaling['ms_per_plant']['1']:.2f} ms per plant on one thread, {scaling['ms_per_plant']['2']:.2f} ms on two")
+    print(f"the optimiser's evaluations (fast path, {scaling['plants']} scenario plants at {100 * scaling['h']:.3f} cm), "
+          "ms per plant: " + ", ".join(f"{k} {v:.2f}" for k, v in scaling["ms_per_plant"].items()))
     out = {"machine": machine_info(), "synthesis_algorithm": synthesis.ALGORITHM, "threads_per_synthesis": 2,
            "variants": VARIANTS, "steps": args.steps, "rows": rows, "summary": result, "thread_scaling": scaling}
     path = ROOT / "benchmarks" / "results" / "warm_search.json"

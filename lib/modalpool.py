@@ -1,0 +1,230 @@
+"""Worker processes that keep the open-loop modal forms of scenario plants and evaluate them at a gain.
+
+The synthesis's optimiser evaluates every scenario plant at each trial gain by the fast path
+(:class:`lib.modalloop.ModalLoop`: about 5 ms per plant at order 208). Those are many small numpy calls that hold
+the GIL, so two threads speed them up only 1.25-1.5 times (``benchmarks/warm_search.py``); two processes, each with
+the modal forms of the plants it evaluates, 1.85 times in a development script. A process pool of the standard
+library (``concurrent.futures.ProcessPoolExecutor``) cannot send a task to the worker that already holds a plant's
+form, and sending the form with every task would pickle the plant's state matrix (350 kB) each time: hence these
+workers, each with a pipe and a registry ``key -> ModalLoop`` built from a plant the first time it is sent.
+
+The state of a form that carries from one call to the next (the poles of the last call, from which the pole
+iteration starts) travels with each task and comes back with its result: the main process's copy of the form holds
+it, so a result does not depend on which worker computed it.
+
+Workers are started by ``fork`` (a few milliseconds; ``spawn`` and ``forkserver`` run the caller's main script again
+in each worker, the whole study if it has no ``if __name__ == "__main__"`` guard) once per process and kept, before
+the synthesis starts its threads; they use one BLAS thread each and import nothing after the fork. Where fork is
+missing (Windows, macOS's default) or not allowed (a daemonic process, e.g. a Dask worker, cannot start children),
+:func:`shared_pool` raises ``RuntimeError`` and the caller falls back to threads.
+"""
+
+from __future__ import annotations
+
+import atexit
+import itertools
+import multiprocessing as mp
+import threading
+import traceback
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from threadpoolctl import threadpool_limits
+
+from .closedloop import GeneralizedPlant
+from .modalloop import ModalLoop
+
+__all__ = ["ModalPool", "shared_pool"]
+
+
+def _serve(conn) -> None:
+    """A worker's loop: ``("call", func, jobs, args)`` with jobs ``(key, plant or None, state)`` answers
+    ``("ok", [func(form, state, *args), ...])`` or ``("error", traceback)`` (the registry then emptied, as the caller's
+    record of it); ``("forget",)`` empties the registry; ``None`` stops it."""
+    forms: dict[int, ModalLoop] = {}
+    with threadpool_limits(1):
+        while True:
+            try:
+                msg = conn.recv()
+            except EOFError:  # the main process has gone
+                return
+            if msg is None:
+                return
+            try:
+                if msg[0] == "forget":
+                    forms.clear()
+                    conn.send(("ok", None))
+                    continue
+                _, func, jobs, args = msg
+                out = []
+                for key, plant, state in jobs:
+                    if plant is not None:
+                        forms[key] = ModalLoop.of(plant)
+                    out.append(func(forms[key], state, *args))
+                conn.send(("ok", out))
+            except BaseException:  # noqa: BLE001 - every failure goes back to the caller, with its traceback
+                forms.clear()  # the caller forgets what it sent this worker too (some plants may not be registered)
+                conn.send(("error", traceback.format_exc()))
+
+
+class ModalPool:
+    """``processes`` worker processes holding modal forms; :meth:`map` evaluates plants on them.
+
+    Parameters
+    ----------
+    processes : int
+        Number of worker processes (at least 1).
+    """
+
+    def __init__(self, processes: int = 2) -> None:
+        if not (isinstance(processes, int) and processes >= 1):
+            raise ValueError(f"processes must be an integer >= 1, got {processes!r}")
+        if "fork" not in mp.get_all_start_methods():
+            raise RuntimeError("the modal-form workers need the 'fork' start method, which this platform lacks")
+        ctx = mp.get_context("fork")
+        self._conns: list[Any] = []
+        self._procs: list[Any] = []
+        try:
+            for _ in range(processes):
+                parent, child = ctx.Pipe()
+                proc = ctx.Process(target=_serve, args=(child,), daemon=True)
+                proc.start()
+                child.close()
+                self._conns.append(parent)
+                self._procs.append(proc)
+        except BaseException:
+            self.close()
+            raise
+        self._known: list[set[int]] = [set() for _ in range(processes)]
+        self._keys: dict[int, tuple[int, GeneralizedPlant]] = {}  # id(plant) -> key, and the plant (so its id stays its own)
+        self._count = itertools.count()
+        self._lock = threading.Lock()
+
+    @property
+    def processes(self) -> int:
+        return len(self._conns)
+
+    def _key(self, plant: GeneralizedPlant) -> int:
+        if id(plant) not in self._keys:
+            self._keys[id(plant)] = (next(self._count), plant)
+        return self._keys[id(plant)][0]
+
+    def map(self, func: Callable[..., Any], items: Sequence[tuple[GeneralizedPlant, Any]], *args: Any,
+            local: Callable[[int], Any] | None = None) -> list[Any]:
+        """``[func(form_of(plant), state, *args) for plant, state in items]`` on the workers.
+
+        ``func`` must be a module-level function (it is sent by reference); ``form_of(plant)`` is the worker's
+        :class:`~lib.modalloop.ModalLoop` of the plant, built the first time the plant reaches that worker. With
+        ``local`` (``j -> result of item j``, computed in this process), this process takes a share too: items
+        ``0, k, 2k, ...`` (``k = processes + 1``) here while the workers compute the others, so that a machine with
+        ``processes + 1`` cores runs as many busy processes as it has cores. Raises ``RuntimeError`` with the
+        worker's traceback if an evaluation fails, or if a worker has died.
+        """
+        if not items:
+            return []
+        n, first = self.processes + (local is not None), int(local is not None)
+        out: list[Any] = [None] * len(items)
+        with self._lock:
+            sent = []
+            for w in range(min(self.processes, len(items) - first)):
+                jobs = []
+                for plant, state in items[w + first::n]:
+                    key = self._key(plant)
+                    jobs.append((key, None if key in self._known[w] else plant, state))
+                    self._known[w].add(key)
+                self._send(w, ("call", func, jobs, args))
+                sent.append(w)
+            try:
+                if local is not None:
+                    out[::n] = [local(j) for j in range(0, len(items), n)]
+            finally:  # every reply read, so that the next call's replies are its own
+                parts = self._gather(sent)
+        for w, part in zip(sent, parts):
+            out[w + first::n] = part
+        return out
+
+    def forget(self) -> None:
+        """Drop every plant and form (the workers' and this side's registry); call when a synthesis ends."""
+        with self._lock:
+            for w in range(self.processes):
+                self._send(w, ("forget",))
+            self._gather(range(self.processes))
+            self._keys.clear()
+            self._known = [set() for _ in range(self.processes)]
+
+    def _gather(self, workers: Sequence[int]) -> list[Any]:
+        """Every worker's reply, then the first failure raised (so that no reply is left for the next call)."""
+        parts: list[Any] = []
+        error: RuntimeError | None = None
+        for w in workers:
+            try:
+                parts.append(self._receive(w))
+            except RuntimeError as exc:
+                error = error or exc
+                parts.append(None)
+                self._known[w] = set()  # the worker has emptied its registry
+        if error is not None:
+            raise error
+        return parts
+
+    def _send(self, w: int, msg: Any) -> None:
+        try:
+            self._conns[w].send(msg)
+        except (BrokenPipeError, EOFError, OSError) as exc:
+            raise RuntimeError(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
+                               "start a new ModalPool") from exc
+
+    def _receive(self, w: int) -> Any:
+        try:
+            status, value = self._conns[w].recv()
+        except (EOFError, OSError) as exc:
+            raise RuntimeError(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
+                               "start a new ModalPool") from exc
+        if status == "error":
+            raise RuntimeError(f"an evaluation failed in modal-form worker {w}:\n{value}")
+        return value
+
+    @property
+    def alive(self) -> bool:
+        return all(p.is_alive() for p in self._procs)
+
+    def close(self) -> None:
+        """Stop the workers."""
+        for conn in self._conns:
+            try:
+                conn.send(None)
+            except (BrokenPipeError, EOFError, OSError):
+                pass
+        for proc in self._procs:
+            proc.join(timeout=5)
+            if proc.is_alive():
+                proc.kill()
+        for conn in self._conns:
+            conn.close()
+        self._conns, self._procs = [], []
+
+
+_POOLS: dict[int, ModalPool] = {}
+_POOLS_LOCK = threading.Lock()
+
+
+def shared_pool(processes: int = 2) -> ModalPool:
+    """The process's pool of ``processes`` workers, started at first use and kept (started workers cost about a
+    second; a co-design runs many syntheses), stopped at exit. A pool whose workers have died is replaced.
+    Raises ``RuntimeError`` where processes cannot be started (a daemonic process, such as a Dask worker)."""
+    with _POOLS_LOCK:
+        pool = _POOLS.get(processes)
+        if pool is None or not pool.alive:
+            if pool is not None:
+                pool.close()
+            if mp.current_process().daemon:
+                raise RuntimeError("a daemonic process (e.g. a Dask worker) cannot start the modal-form workers")
+            pool = _POOLS[processes] = ModalPool(processes)
+        return pool
+
+
+@atexit.register
+def _close_pools() -> None:
+    for pool in _POOLS.values():
+        pool.close()
+    _POOLS.clear()

@@ -1,0 +1,136 @@
+"""Worker processes for the fast path (lib/modalpool.py): the same values as in this process, to the last bit, errors
+carried back with their traceback, and the synthesis's optimiser taking the same steps on processes as on threads."""
+
+import numpy as np
+import pytest
+from threadpoolctl import threadpool_limits
+
+from lib import synthesis
+from lib.closedloop import LoopSettings
+from lib.modalloop import ModalLoop
+from lib.modalpool import ModalPool, shared_pool
+from lib.synthesis import Scenario, plant_at
+
+ST = LoopSettings.from_parameters()
+SCENARIOS = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)),
+             Scenario(0.3, 0.2, -1.0, 1.0)]
+
+
+@pytest.fixture(scope="module")
+def pool():
+    p = ModalPool(2)
+    yield p
+    p.close()
+
+
+@pytest.fixture(scope="module")
+def plants(model, inertia):
+    return [plant_at(model, s, inertia, ST) for s in SCENARIOS]
+
+
+def test_pool_peaks_equal_the_in_process_ones_to_the_last_bit(pool, plants):
+    """Over a sequence of gains (each form's pole iteration starting from the last gain's poles), the workers' peaks,
+    poles, margins, pole vectors and iteration counts equal those of the same forms evaluated here, bit for bit:
+    the state a form carries travels with each task, so which worker computes a plant does not matter. (Here BLAS on
+    one thread, as in the workers and in a synthesis: two threads sum matrix products in another order, 1e-13 apart.)"""
+    with threadpool_limits(1):
+        _compare(pool, plants)
+
+
+def _compare(pool, plants):
+    here = [ModalLoop.of(p) for p in plants]
+    there = [ModalLoop.of(p) for p in plants]
+    rng = np.random.default_rng(3)
+    for step in range(4):
+        gain = -np.ones((4, 8)) * (1 + 0.01 * step) + 1e-3 * rng.standard_normal((4, 8))
+        order = list(range(len(plants)))[::(-1) ** step]  # each plant on another worker from one step to the next
+        got = synthesis._pool_peaks(pool, [plants[i] for i in order], [there[i] for i in order], gain, min_damping=2e-4)
+        for i, lp in zip(order, got):
+            ref = synthesis.loop_peaks(plants[i], gain, min_damping=2e-4, modal=here[i])
+            assert lp.peaks == ref.peaks and lp.abscissa == ref.abscissa and lp.stable == ref.stable
+            assert np.array_equal(lp.poles(), ref.poles()) and np.array_equal(lp.decomposition().value, ref.decomposition().value)
+            for a, b in zip(lp.decomposition().vectors(), ref.decomposition().vectors()):
+                assert np.array_equal(a, b)
+            assert np.array_equal(there[i].start, here[i].start) and there[i].sweeps == here[i].sweeps
+            assert there[i].fallbacks == here[i].fallbacks
+
+
+def test_a_failure_in_a_worker_comes_back_with_its_traceback(pool, plants):
+    """A bad gain fails in both workers: the first failure is raised with the worker's traceback, and both replies are
+    read (the next call gets its own). With a local share, this process's own failure is raised as is."""
+    opts = dict(min_damping=2e-4)
+    with pytest.raises(RuntimeError, match="(?s)failed in modal-form worker 0.*ValueError: gain must be"):
+        pool.map(synthesis._remote_peaks, [(p, None) for p in plants], np.ones((3, 3)), opts)
+    got = pool.map(synthesis._remote_peaks, [(p, None) for p in plants], -np.ones((4, 8)), opts)
+    assert len(got) == 3 and all(g[2] for g in got)  # stable, and each plant's own reply
+    form = ModalLoop.of(plants[0])
+    with pytest.raises(ValueError, match="gain must be"):
+        synthesis._pool_peaks(pool, plants[:1], [form], np.ones((3, 3)))
+
+
+def test_forget_empties_the_registries(pool, plants):
+    forms = [ModalLoop.of(p) for p in plants]
+    synthesis._pool_peaks(pool, plants, forms, -np.ones((4, 8)))
+    assert pool._keys and any(pool._known)
+    pool.forget()
+    assert not pool._keys and not any(pool._known)
+    # the plants are sent again and give the same values (BLAS on one thread, as in the workers)
+    with threadpool_limits(1):
+        again = synthesis._pool_peaks(pool, plants, [ModalLoop.of(p) for p in plants], -np.ones((4, 8)))
+        here = [synthesis.loop_peaks(p, -np.ones((4, 8)), modal=ModalLoop.of(p)).peaks for p in plants]
+    assert [lp.peaks for lp in again] == here
+
+
+def test_bad_pool_size():
+    with pytest.raises(ValueError, match="processes"):
+        ModalPool(0)
+
+
+def test_a_pool_that_cannot_start_falls_back_to_threads(monkeypatch):
+    def refuse(n):
+        raise RuntimeError("a daemonic process cannot start the modal-form workers")
+
+    monkeypatch.setattr(synthesis, "shared_pool", refuse)
+    with pytest.warns(RuntimeWarning, match="using threads"):
+        with synthesis._pooled(True, 2) as got:
+            assert got is None
+    with synthesis._pooled(False, 2) as got:
+        assert got is None
+
+
+def test_the_optimiser_takes_the_same_steps_on_processes_as_on_threads(plants):
+    """From an effort-infeasible start (3 x the stored 2.1 cm grid gain at 2.139 cm; Z = 8.24), stabilisation then
+    the feasibility and optimisation phases for 12 iterations, fast path, two threads: with the evaluations on the
+    shared pool's two processes the gains, J, Z and the history are the same to the last bit."""
+    from test_synthesis import _grid_gain
+
+    def run(pool):
+        with synthesis._workers(2) as pmap:
+            prob = synthesis._Problem(list(plants), [], pmap, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 12, False,
+                                      min_damping_all=2e-4, chunk=2, fast=True, trust_region="ball",
+                                      restoration="least_change", pool=pool)
+            state, _ = synthesis._optimise(prob, synthesis._stabilise(prob, prob.evaluate_all(3.0 * _grid_gain(0.021))))
+        return state, prob
+
+    ref, ref_prob = run(None)
+    pool = shared_pool(1)  # as synthesize takes it for two workers: one process and this one
+    try:
+        got, prob = run(pool)
+    finally:
+        pool.forget()
+    assert len(ref_prob.history) > 5 and ref_prob.iterations == prob.iterations
+    assert np.array_equal(got.gain, ref.gain) and prob.history == ref_prob.history
+    assert got.value("rpe") == ref.value("rpe") and got.value("effort") == ref.value("effort")
+    assert prob.evaluations == ref_prob.evaluations
+
+
+def test_synthesize_on_processes_equals_it_on_threads(model, inertia):
+    """A short synthesis (one round of 5 iterations from all gains at -1, a small search) with ``processes=True`` and
+    with threads: the same gain, J_c, Z_c and history to the last bit, and the pool's plants forgotten at the end."""
+    kw = dict(fast=True, workers=2, max_rounds=1, max_iter=5, search_thetas_deg=(0.0, 90.0), search_max_evals=3,
+              fast_search=True, peak_refine="parabolic", trust_region="ball", restoration="least_change")
+    ref = synthesis.synthesize(model, inertia, **kw)
+    got = synthesis.synthesize(model, inertia, processes=True, **kw)
+    assert ref.iterations == got.iterations == 5 and got.history == ref.history
+    assert np.array_equal(got.gain, ref.gain) and got.j_c == ref.j_c and got.z_c == ref.z_c
+    assert not shared_pool(1)._keys
