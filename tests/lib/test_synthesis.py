@@ -107,10 +107,12 @@ def test_parabolic_peaks_equal_the_zoomed_ones_on_the_spacecraft(model, inertia,
 
     for sc in (Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)), Scenario()):
         p = plant_at(model, sc, inertia, ST)
-        form = ModalLoop.of(p) if fast else None
-        zoom = synthesis.loop_peaks(p, GAIN, min_damping=2e-4, modal=form)
-        para = synthesis.loop_peaks(p, GAIN, min_damping=2e-4, modal=form, peak_refine="parabolic")
-        assert zoom.stable and para.stable and para.abscissa == zoom.abscissa
+        zoom = synthesis.loop_peaks(p, GAIN, min_damping=2e-4, modal=ModalLoop.of(p) if fast else None)
+        para = synthesis.loop_peaks(p, GAIN, min_damping=2e-4, modal=ModalLoop.of(p) if fast else None,
+                                    peak_refine="parabolic")
+        # the poles do not depend on the refinement (each fast call from its own form: the pole iteration starts from a
+        # form's last poles, which would move the second call's by rounding)
+        assert zoom.stable and para.stable and para.abscissa == pytest.approx(zoom.abscissa, rel=1e-12)
         for group in ("rpe", "effort"):
             for (vz, wz), (vp, wp) in zip(zoom.peaks[group], para.peaks[group]):
                 assert vp == pytest.approx(vz, rel=1e-9) and vp >= vz * (1 - 1e-12)
