@@ -1,9 +1,10 @@
 """Worker processes that keep the open-loop modal forms of scenario plants and evaluate them at a gain.
 
 The synthesis's optimiser evaluates every scenario plant at each trial gain by the fast path
-(:class:`lib.modalloop.ModalLoop`: about 5 ms per plant at order 208). Those are many small numpy calls that hold
-the GIL, so two threads speed them up only 1.25-1.5 times (``benchmarks/warm_search.py``); two processes, each with
-the modal forms of the plants it evaluates, 1.85 times in a development script. A process pool of the standard
+(:class:`lib.modalloop.ModalLoop`: about 4-5 ms per plant at order 208). Those are many small numpy calls that hold
+the GIL, so two threads speed them up only 1.2-1.5 times; a worker process and the calling process, each evaluating
+half of the plants, 1.65 times two threads (``benchmarks/warm_search.py``: 1.97 against 3.25 ms per plant, 22 plants
+at 2.139 cm, parabolic peaks). A process pool of the standard
 library (``concurrent.futures.ProcessPoolExecutor``) cannot send a task to the worker that already holds a plant's
 form, and sending the form with every task would pickle the plant's state matrix (350 kB) each time: hence these
 workers, each with a pipe and a registry ``key -> ModalLoop`` built from a plant the first time it is sent.
@@ -14,16 +15,20 @@ it, so a result does not depend on which worker computed it.
 
 Workers are started by ``fork`` (a few milliseconds; ``spawn`` and ``forkserver`` run the caller's main script again
 in each worker, the whole study if it has no ``if __name__ == "__main__"`` guard) once per process and kept, before
-the synthesis starts its threads; they use one BLAS thread each and import nothing after the fork. Where fork is
-missing (Windows, macOS's default) or not allowed (a daemonic process, e.g. a Dask worker, cannot start children),
-:func:`shared_pool` raises ``RuntimeError`` and the caller falls back to threads.
+the synthesis starts its threads; they use one BLAS thread each, import nothing after the fork, ignore keyboard
+interrupts (the main process handles them) and stop when the main process dies. Where fork is missing (Windows) or
+unsafe (macOS) or not allowed (a daemonic process, e.g. a Dask worker, cannot start children), :func:`shared_pool`
+raises ``RuntimeError`` and the caller falls back to threads.
 """
 
 from __future__ import annotations
 
 import atexit
+import ctypes
 import itertools
 import multiprocessing as mp
+import signal
+import sys
 import threading
 import traceback
 from collections.abc import Callable, Sequence
@@ -37,20 +42,24 @@ from .modalloop import ModalLoop
 __all__ = ["ModalPool", "shared_pool"]
 
 
-def _serve(conn) -> None:
+def _serve(conn, inherited: Sequence[Any] = ()) -> None:
     """A worker's loop: ``("call", func, jobs, args)`` with jobs ``(key, plant or None, state)`` answers
     ``("ok", [func(form, state, *args), ...])`` or ``("error", traceback)`` (the registry then emptied, as the caller's
-    record of it); ``("forget",)`` empties the registry; ``None`` stops it."""
+    record of it); ``("forget",)`` empties the registry; ``None``, or the main process's end, stops it.
+
+    ``inherited``: the main process's ends of the workers' pipes, which the fork copied here; closed first, so that
+    this worker sees the end of its pipe (and stops) when the main process dies, however it dies."""
+    for end in inherited:
+        end.close()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # an interrupt is the main process's to handle (it stops the workers)
+    _die_with_parent()
     forms: dict[int, ModalLoop] = {}
     with threadpool_limits(1):
         while True:
             try:
                 msg = conn.recv()
-            except EOFError:  # the main process has gone
-                return
-            if msg is None:
-                return
-            try:
+                if msg is None:
+                    return
                 if msg[0] == "forget":
                     forms.clear()
                     conn.send(("ok", None))
@@ -62,13 +71,38 @@ def _serve(conn) -> None:
                         forms[key] = ModalLoop.of(plant)
                     out.append(func(forms[key], state, *args))
                 conn.send(("ok", out))
+            except EOFError:  # the main process has gone
+                return
             except BaseException:  # noqa: BLE001 - every failure goes back to the caller, with its traceback
                 forms.clear()  # the caller forgets what it sent this worker too (some plants may not be registered)
                 conn.send(("error", traceback.format_exc()))
 
 
+def _die_with_parent() -> None:
+    """On Linux, have the kernel stop this process when its parent dies (``prctl(PR_SET_PDEATHSIG, SIGKILL)``); a
+    second guard after the closed pipe ends of :func:`_serve`."""
+    try:
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
+    except (OSError, AttributeError):
+        pass
+
+
+class _WorkerError(RuntimeError):
+    """An evaluation failed in a worker, which replied with its traceback: the pipes are still in step."""
+
+
+class _Stopped(RuntimeError):
+    """A worker's pipe is closed: the worker has died."""
+
+
 class ModalPool:
     """``processes`` worker processes holding modal forms; :meth:`map` evaluates plants on them.
+
+    A call that is interrupted between its requests and their replies (a keyboard interrupt, a worker that died)
+    would leave replies in the pipes for the next call: the pool then stops its workers and refuses further calls
+    (:func:`shared_pool` starts a new one). A failure in a worker, or a request that cannot be pickled, leaves it
+    usable (every reply is read before the error is raised). The workers run the code as it was when they
+    were forked: after reloading a module (``%autoreload``) or patching one of its functions, start a new pool.
 
     Parameters
     ----------
@@ -79,21 +113,23 @@ class ModalPool:
     def __init__(self, processes: int = 2) -> None:
         if not (isinstance(processes, int) and processes >= 1):
             raise ValueError(f"processes must be an integer >= 1, got {processes!r}")
-        if "fork" not in mp.get_all_start_methods():
-            raise RuntimeError("the modal-form workers need the 'fork' start method, which this platform lacks")
+        if sys.platform == "darwin" or "fork" not in mp.get_all_start_methods():
+            raise RuntimeError("the modal-form workers need the 'fork' start method, which this platform lacks "
+                               "(or, on macOS, does not make safe)")
         ctx = mp.get_context("fork")
         self._conns: list[Any] = []
         self._procs: list[Any] = []
+        self._broken = False
         try:
             for _ in range(processes):
                 parent, child = ctx.Pipe()
-                proc = ctx.Process(target=_serve, args=(child,), daemon=True)
+                proc = ctx.Process(target=_serve, args=(child, [*self._conns, parent]), daemon=True)
                 proc.start()
                 child.close()
                 self._conns.append(parent)
                 self._procs.append(proc)
         except BaseException:
-            self.close()
+            self._abandon()
             raise
         self._known: list[set[int]] = [set() for _ in range(processes)]
         self._keys: dict[int, tuple[int, GeneralizedPlant]] = {}  # id(plant) -> key, and the plant (so its id stays its own)
@@ -109,6 +145,11 @@ class ModalPool:
             self._keys[id(plant)] = (next(self._count), plant)
         return self._keys[id(plant)][0]
 
+    def _usable(self) -> None:
+        if self._broken or not self._conns:
+            raise RuntimeError("this ModalPool has been stopped (closed, or a call was interrupted); "
+                               "lib.modalpool.shared_pool() starts a new one")
+
     def map(self, func: Callable[..., Any], items: Sequence[tuple[GeneralizedPlant, Any]], *args: Any,
             local: Callable[[int], Any] | None = None) -> list[Any]:
         """``[func(form_of(plant), state, *args) for plant, state in items]`` on the workers.
@@ -118,51 +159,83 @@ class ModalPool:
         ``local`` (``j -> result of item j``, computed in this process), this process takes a share too: items
         ``0, k, 2k, ...`` (``k = processes + 1``) here while the workers compute the others, so that a machine with
         ``processes + 1`` cores runs as many busy processes as it has cores. Raises ``RuntimeError`` with the
-        worker's traceback if an evaluation fails, or if a worker has died.
+        worker's traceback if an evaluation fails in a worker (the pool stays usable), ``local``'s own exception if
+        it fails here, and ``RuntimeError`` if a worker has died (the pool is then stopped).
         """
         if not items:
             return []
         n, first = self.processes + (local is not None), int(local is not None)
         out: list[Any] = [None] * len(items)
         with self._lock:
+            self._usable()
             sent = []
-            for w in range(min(self.processes, len(items) - first)):
-                jobs = []
-                for plant, state in items[w + first::n]:
-                    key = self._key(plant)
-                    jobs.append((key, None if key in self._known[w] else plant, state))
-                    self._known[w].add(key)
-                self._send(w, ("call", func, jobs, args))
-                sent.append(w)
+            try:
+                for w in range(min(self.processes, len(items) - first)):
+                    jobs, new = [], set()
+                    for plant, state in items[w + first::n]:
+                        key = self._key(plant)
+                        jobs.append((key, None if key in self._known[w] or key in new else plant, state))
+                        new.add(key)
+                    self._send(w, ("call", func, jobs, args))
+                    self._known[w] |= new
+                    sent.append(w)
+            except _Stopped:
+                self._abandon()
+                raise
+            except Exception:  # a request that cannot be pickled (nothing of it written): the others' replies read
+                self._gather(sent)
+                raise
+            except BaseException:
+                self._abandon()
+                raise
+            failure: BaseException | None = None
             try:
                 if local is not None:
                     out[::n] = [local(j) for j in range(0, len(items), n)]
-            finally:  # every reply read, so that the next call's replies are its own
-                parts = self._gather(sent)
+            except Exception as exc:  # noqa: BLE001 - raised below, once the workers' replies are read
+                failure = exc
+            except BaseException:  # an interrupt: the replies are not waited for
+                self._abandon()
+                raise
+            parts = self._gather(sent)
+            if failure is not None:
+                raise failure
         for w, part in zip(sent, parts):
             out[w + first::n] = part
         return out
 
     def forget(self) -> None:
-        """Drop every plant and form (the workers' and this side's registry); call when a synthesis ends."""
+        """Drop every plant and form (the workers' and this side's registry); call when a synthesis ends. Nothing to
+        do on a stopped pool."""
         with self._lock:
-            for w in range(self.processes):
-                self._send(w, ("forget",))
+            if self._broken or not self._conns:
+                return
+            try:
+                for w in range(self.processes):
+                    self._send(w, ("forget",))
+            except BaseException:
+                self._abandon()
+                raise
             self._gather(range(self.processes))
             self._keys.clear()
             self._known = [set() for _ in range(self.processes)]
 
-    def _gather(self, workers: Sequence[int]) -> list[Any]:
-        """Every worker's reply, then the first failure raised (so that no reply is left for the next call)."""
+    def _gather(self, workers: Sequence[int] | range) -> list[Any]:
+        """Every worker's reply, then the first failure raised (so that no reply is left for the next call). A worker
+        that has died, or an interrupt while waiting, stops the pool."""
         parts: list[Any] = []
-        error: RuntimeError | None = None
-        for w in workers:
-            try:
-                parts.append(self._receive(w))
-            except RuntimeError as exc:
-                error = error or exc
-                parts.append(None)
-                self._known[w] = set()  # the worker has emptied its registry
+        error: _WorkerError | None = None
+        try:
+            for w in workers:
+                try:
+                    parts.append(self._receive(w))
+                except _WorkerError as exc:
+                    error = error or exc
+                    parts.append(None)
+                    self._known[w] = set()  # the worker has emptied its registry
+        except BaseException:
+            self._abandon()
+            raise
         if error is not None:
             raise error
         return parts
@@ -171,22 +244,34 @@ class ModalPool:
         try:
             self._conns[w].send(msg)
         except (BrokenPipeError, EOFError, OSError) as exc:
-            raise RuntimeError(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
-                               "start a new ModalPool") from exc
+            raise _Stopped(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
+                           "lib.modalpool.shared_pool() starts a new pool") from exc
 
     def _receive(self, w: int) -> Any:
         try:
             status, value = self._conns[w].recv()
         except (EOFError, OSError) as exc:
-            raise RuntimeError(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
-                               "start a new ModalPool") from exc
+            raise _Stopped(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
+                               "lib.modalpool.shared_pool() starts a new pool") from exc
         if status == "error":
-            raise RuntimeError(f"an evaluation failed in modal-form worker {w}:\n{value}")
+            raise _WorkerError(f"an evaluation failed in modal-form worker {w}:\n{value}")
         return value
 
     @property
     def alive(self) -> bool:
-        return all(p.is_alive() for p in self._procs)
+        """Whether the pool can be used: not stopped, every worker running."""
+        return not self._broken and bool(self._procs) and all(p.is_alive() for p in self._procs)
+
+    def _abandon(self) -> None:
+        """Stop the workers at once (their pipes may hold replies no call will read) and refuse further calls."""
+        self._broken = True
+        for proc in self._procs:
+            if proc.is_alive():
+                proc.kill()
+            proc.join(timeout=5)
+        for conn in self._conns:
+            conn.close()
+        self._conns, self._procs = [], []
 
     def close(self) -> None:
         """Stop the workers."""
@@ -209,9 +294,10 @@ _POOLS_LOCK = threading.Lock()
 
 
 def shared_pool(processes: int = 2) -> ModalPool:
-    """The process's pool of ``processes`` workers, started at first use and kept (started workers cost about a
-    second; a co-design runs many syntheses), stopped at exit. A pool whose workers have died is replaced.
-    Raises ``RuntimeError`` where processes cannot be started (a daemonic process, such as a Dask worker)."""
+    """The process's pool of ``processes`` workers, started at first use and kept (a co-design runs many syntheses;
+    the forms are dropped after each by :meth:`ModalPool.forget`), stopped at exit. A pool that has been stopped, or
+    whose workers have died, is replaced. Raises ``RuntimeError`` where processes cannot be started (a daemonic
+    process, such as a Dask worker; see the module's notes)."""
     with _POOLS_LOCK:
         pool = _POOLS.get(processes)
         if pool is None or not pool.alive:

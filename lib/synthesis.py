@@ -276,9 +276,9 @@ def _parabolic_max(fun: Callable[[NDArray], NDArray], x: NDArray, f: NDArray, st
     a, b, c = (np.array(x[:, j], dtype=float) for j in range(3))
     fa, fb, fc = (np.array(f[:, j], dtype=float) for j in range(3))
     for _ in range(steps):
-        num = (b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)
-        den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # a degenerate triple: golden section below
+            num = (b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)
+            den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
             u = b - 0.5 * num / den
         guard = _GOLDEN_GUARD * np.minimum(b - a, c - b)
         golden = np.where(c - b > b - a, b + 0.381966 * (c - b), b - 0.381966 * (b - a))

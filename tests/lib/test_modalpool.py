@@ -134,3 +134,79 @@ def test_synthesize_on_processes_equals_it_on_threads(model, inertia):
     assert ref.iterations == got.iterations == 5 and got.history == ref.history
     assert np.array_equal(got.gain, ref.gain) and got.j_c == ref.j_c and got.z_c == ref.z_c
     assert not shared_pool(1)._keys
+
+
+def _sleep(form, state, delay):
+    """A task for the pool that takes ``delay`` seconds and returns its state."""
+    import time
+
+    time.sleep(delay)
+    return state
+
+
+def test_an_interrupted_call_stops_the_pool_and_shared_pool_replaces_it(plants):
+    """An interrupt while the workers compute would leave their replies for the next call (which would return the
+    previous call's results): the pool stops its workers and refuses further calls; shared_pool starts a new one."""
+    import signal
+
+    pool = shared_pool(1)
+
+    def interrupt(*_):
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.3)
+        with pytest.raises(KeyboardInterrupt):
+            pool.map(_sleep, [(plants[0], "first"), (plants[1], "first")], 2.0)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    assert not pool.alive
+    with pytest.raises(RuntimeError, match="has been stopped"):
+        pool.map(_sleep, [(plants[0], "second")], 0.0)
+    pool.forget()  # nothing to do on a stopped pool (a synthesis's exit path calls it)
+    fresh = shared_pool(1)
+    assert fresh is not pool and fresh.map(_sleep, [(plants[0], "third"), (plants[1], "fourth")], 0.0) == ["third", "fourth"]
+
+
+def test_a_request_that_cannot_be_pickled_leaves_the_pool_in_step(pool, plants):
+    """The second worker's request cannot be pickled after the first's was sent: the first's reply is read before the
+    error is raised, and the next calls get their own results with the plants each worker holds."""
+    with pytest.raises(Exception, match="pickle"):
+        pool.map(_sleep, [(plants[0], "A"), (plants[1], lambda: 0)], 0.0)
+    assert pool.alive
+    for tag in "BC":
+        assert pool.map(_sleep, [(plants[0], tag + "0"), (plants[1], tag + "1")], 0.0) == [tag + "0", tag + "1"]
+
+
+def test_workers_stop_when_the_main_process_is_killed(tmp_path):
+    """A main process killed outright (SIGKILL: no atexit, no close) leaves no worker behind: each closes the main
+    process's pipe ends it inherited, sees the end of its pipe and stops (and the kernel stops it, on Linux)."""
+    import os
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    script = tmp_path / "killed.py"
+    script.write_text("import os, signal\nfrom lib.modalpool import ModalPool\npool = ModalPool(2)\n"
+                      "print(' '.join(str(p.pid) for p in pool._procs), flush=True)\nos.kill(os.getpid(), signal.SIGKILL)\n")
+    root = Path(__file__).parents[2]
+    run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "PYTHONPATH": str(root)})
+    pids = [int(p) for p in run.stdout.split()]
+    assert len(pids) == 2
+
+    def alive(pid):
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return False
+        with open(f"/proc/{pid}/stat") as f:  # a zombie has stopped
+            return f.read().split()[2] != "Z"
+
+    deadline = time.monotonic() + 10
+    while any(alive(p) for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not any(alive(p) for p in pids)
