@@ -42,17 +42,19 @@ from .modalloop import ModalLoop
 __all__ = ["ModalPool", "shared_pool"]
 
 
-def _serve(conn, inherited: Sequence[Any] = ()) -> None:
+def _serve(conn, inherited: Sequence[Any] = (), pdeathsig: bool = False) -> None:
     """A worker's loop: ``("call", func, jobs, args)`` with jobs ``(key, plant or None, state)`` answers
     ``("ok", [func(form, state, *args), ...])`` or ``("error", traceback)`` (the registry then emptied, as the caller's
     record of it); ``("forget",)`` empties the registry; ``None``, or the main process's end, stops it.
 
     ``inherited``: the main process's ends of the workers' pipes, which the fork copied here; closed first, so that
-    this worker sees the end of its pipe (and stops) when the main process dies, however it dies."""
+    this worker sees the end of its pipe (and stops) when the main process dies, however it dies. ``pdeathsig``: also
+    have the kernel stop it then (Linux; only for a pool created from the main thread, see :class:`ModalPool`)."""
     for end in inherited:
         end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # an interrupt is the main process's to handle (it stops the workers)
-    _die_with_parent()
+    if pdeathsig and _PRCTL is not None:
+        _PRCTL(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
     forms: dict[int, ModalLoop] = {}
     with threadpool_limits(1):
         while True:
@@ -78,13 +80,18 @@ def _serve(conn, inherited: Sequence[Any] = ()) -> None:
                 conn.send(("error", traceback.format_exc()))
 
 
-def _die_with_parent() -> None:
-    """On Linux, have the kernel stop this process when its parent dies (``prctl(PR_SET_PDEATHSIG, SIGKILL)``); a
-    second guard after the closed pipe ends of :func:`_serve`."""
+def _find_prctl() -> Callable[..., int] | None:
+    """Linux's ``prctl`` from the C library already loaded (resolved here, before any fork: a child that loaded a
+    library after the fork could deadlock on a lock another thread of the parent held)."""
+    if not sys.platform.startswith("linux"):
+        return None
     try:
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
+        return ctypes.CDLL(None, use_errno=True).prctl
     except (OSError, AttributeError):
-        pass
+        return None
+
+
+_PRCTL = _find_prctl()
 
 
 class _WorkerError(RuntimeError):
@@ -120,21 +127,29 @@ class ModalPool:
         self._conns: list[Any] = []
         self._procs: list[Any] = []
         self._broken = False
+        self._known: list[set[int]] = [set() for _ in range(processes)]
+        self._keys: dict[int, tuple[int, GeneralizedPlant]] = {}  # id(plant) -> key, and the plant (so its id stays its own)
+        self._count = itertools.count()
+        self._lock = threading.Lock()
+        # the kernel's parent-death signal fires when the creating *thread* ends: asked for only from the main thread
+        pdeathsig = threading.current_thread() is threading.main_thread()
         try:
             for _ in range(processes):
                 parent, child = ctx.Pipe()
-                proc = ctx.Process(target=_serve, args=(child, [*self._conns, parent]), daemon=True)
-                proc.start()
-                child.close()
+                try:
+                    proc = ctx.Process(target=_serve, args=(child, [*self._conns, parent], pdeathsig), daemon=True)
+                    proc.start()
+                except BaseException:
+                    parent.close()
+                    raise
+                finally:
+                    child.close()
                 self._conns.append(parent)
                 self._procs.append(proc)
         except BaseException:
             self._abandon()
             raise
-        self._known: list[set[int]] = [set() for _ in range(processes)]
-        self._keys: dict[int, tuple[int, GeneralizedPlant]] = {}  # id(plant) -> key, and the plant (so its id stays its own)
-        self._count = itertools.count()
-        self._lock = threading.Lock()
+        self._known = [set() for _ in range(processes)]
 
     @property
     def processes(self) -> int:
@@ -168,36 +183,41 @@ class ModalPool:
         out: list[Any] = [None] * len(items)
         with self._lock:
             self._usable()
-            sent = []
-            try:
-                for w in range(min(self.processes, len(items) - first)):
-                    jobs, new = [], set()
-                    for plant, state in items[w + first::n]:
-                        key = self._key(plant)
-                        jobs.append((key, None if key in self._known[w] or key in new else plant, state))
-                        new.add(key)
-                    self._send(w, ("call", func, jobs, args))
-                    self._known[w] |= new
-                    sent.append(w)
-            except _Stopped:
-                self._abandon()
-                raise
-            except Exception:  # a request that cannot be pickled (nothing of it written): the others' replies read
-                self._gather(sent)
-                raise
-            except BaseException:
-                self._abandon()
-                raise
+            sent: list[int] = []
+            gathered = False  # every reply due has been read: the pipes are in step
             failure: BaseException | None = None
             try:
-                if local is not None:
-                    out[::n] = [local(j) for j in range(0, len(items), n)]
-            except Exception as exc:  # noqa: BLE001 - raised below, once the workers' replies are read
-                failure = exc
-            except BaseException:  # an interrupt: the replies are not waited for
-                self._abandon()
+                try:
+                    for w in range(min(self.processes, len(items) - first)):
+                        jobs, new = [], set()
+                        for plant, state in items[w + first::n]:
+                            key = self._key(plant)
+                            jobs.append((key, None if key in self._known[w] or key in new else plant, state))
+                            new.add(key)
+                        self._send(w, ("call", func, jobs, args))
+                        self._known[w] |= new
+                        sent.append(w)
+                except _Stopped:
+                    raise
+                except Exception as exc:  # a request that cannot be pickled (nothing of it written)
+                    failure = exc
+                if failure is None and local is not None:
+                    try:
+                        out[::n] = [local(j) for j in range(0, len(items), n)]
+                    except Exception as exc:  # raised below, once the workers' replies are read
+                        failure = exc
+                try:
+                    parts = self._gather(sent)
+                except _WorkerError as exc:
+                    gathered = True
+                    if failure is None:
+                        raise
+                    raise failure from exc
+                gathered = True
+            except BaseException:
+                if not gathered:  # an interrupt or a dead worker: replies may be left in the pipes
+                    self._abandon()
                 raise
-            parts = self._gather(sent)
             if failure is not None:
                 raise failure
         for w, part in zip(sent, parts):
@@ -210,32 +230,31 @@ class ModalPool:
         with self._lock:
             if self._broken or not self._conns:
                 return
+            gathered = False
             try:
                 for w in range(self.processes):
                     self._send(w, ("forget",))
+                self._gather(range(self.processes))
+                gathered = True
             except BaseException:
-                self._abandon()
+                if not gathered:
+                    self._abandon()
                 raise
-            self._gather(range(self.processes))
             self._keys.clear()
             self._known = [set() for _ in range(self.processes)]
 
     def _gather(self, workers: Sequence[int] | range) -> list[Any]:
-        """Every worker's reply, then the first failure raised (so that no reply is left for the next call). A worker
-        that has died, or an interrupt while waiting, stops the pool."""
+        """Every worker's reply, then the first failure in a worker raised (so that no reply is left for the next call);
+        any other exception (a dead worker, an interrupt) leaves replies unread: the callers then stop the pool."""
         parts: list[Any] = []
         error: _WorkerError | None = None
-        try:
-            for w in workers:
-                try:
-                    parts.append(self._receive(w))
-                except _WorkerError as exc:
-                    error = error or exc
-                    parts.append(None)
-                    self._known[w] = set()  # the worker has emptied its registry
-        except BaseException:
-            self._abandon()
-            raise
+        for w in workers:
+            try:
+                parts.append(self._receive(w))
+            except _WorkerError as exc:
+                error = error or exc
+                parts.append(None)
+                self._known[w] = set()  # the worker has emptied its registry
         if error is not None:
             raise error
         return parts
@@ -272,9 +291,18 @@ class ModalPool:
         for conn in self._conns:
             conn.close()
         self._conns, self._procs = [], []
+        self._keys, self._known = {}, []
 
     def close(self) -> None:
-        """Stop the workers."""
+        """Stop the workers (waiting up to 5 s for a call in progress in another thread)."""
+        locked = self._lock.acquire(timeout=5)
+        try:
+            self._close()
+        finally:
+            if locked:
+                self._lock.release()
+
+    def _close(self) -> None:
         for conn in self._conns:
             try:
                 conn.send(None)

@@ -210,3 +210,34 @@ def test_workers_stop_when_the_main_process_is_killed(tmp_path):
     while any(alive(p) for p in pids) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert not any(alive(p) for p in pids)
+
+
+def test_a_pool_created_in_a_thread_outlives_the_thread(plants):
+    """The kernel's parent-death signal fires when the creating thread ends, not the process: a pool created by a
+    thread that then exits (a synthesis run in a thread) must keep its workers (measured before the fix: killed, exit
+    code -9)."""
+    import threading
+    import time
+
+    made = []
+    t = threading.Thread(target=lambda: made.append(ModalPool(1)))
+    t.start()
+    t.join()
+    time.sleep(0.5)
+    pool = made[0]
+    try:
+        assert pool.alive
+        assert pool.map(_sleep, [(plants[0], "after")], 0.0) == ["after"]
+    finally:
+        pool.close()
+
+
+def test_the_pickling_error_is_raised_and_not_a_worker_failure(pool, plants):
+    """A request that cannot be pickled after another worker's request failed there: the pickling error is the one
+    raised (the worker's failure chained to it), and the pool stays usable."""
+    from lib.modalpool import _WorkerError
+
+    with pytest.raises(Exception, match="pickle") as caught:
+        pool.map(synthesis._remote_peaks, [(plants[0], None), (plants[1], lambda: 0)], np.ones((3, 3)), {})
+    assert not isinstance(caught.value, _WorkerError) and isinstance(caught.value.__cause__, _WorkerError)
+    assert pool.alive and pool.map(_sleep, [(plants[0], "x"), (plants[1], "y")], 0.0) == ["x", "y"]
