@@ -123,6 +123,8 @@ class ModalPool:
         if sys.platform == "darwin" or "fork" not in mp.get_all_start_methods():
             raise RuntimeError("the modal-form workers need the 'fork' start method, which this platform lacks "
                                "(or, on macOS, does not make safe)")
+        if mp.current_process().daemon:
+            raise RuntimeError("a daemonic process (e.g. a Dask worker) cannot start the modal-form workers")
         ctx = mp.get_context("fork")
         self._conns: list[Any] = []
         self._procs: list[Any] = []
@@ -149,7 +151,6 @@ class ModalPool:
         except BaseException:
             self._abandon()
             raise
-        self._known = [set() for _ in range(processes)]
 
     @property
     def processes(self) -> int:
@@ -331,8 +332,6 @@ def shared_pool(processes: int = 2) -> ModalPool:
         if pool is None or not pool.alive:
             if pool is not None:
                 pool.close()
-            if mp.current_process().daemon:
-                raise RuntimeError("a daemonic process (e.g. a Dask worker) cannot start the modal-form workers")
             pool = _POOLS[processes] = ModalPool(processes)
         return pool
 

@@ -169,7 +169,7 @@ def _pooled(processes: bool, workers: int | None):
         return
     try:
         pool = shared_pool(_n_workers(workers) - 1)  # and this process
-    except (RuntimeError, OSError, AssertionError) as exc:  # a daemonic process raises AssertionError on start
+    except (RuntimeError, OSError) as exc:
         warnings.warn(f"processes=True: the worker processes could not be started ({exc}); using threads", RuntimeWarning,
                       stacklevel=3)
         yield None
@@ -259,6 +259,11 @@ def _zoom_max(fun: Callable[[NDArray], NDArray], lo: NDArray, hi: NDArray, n: in
 # the safeguard of _parabolic_max: a vertex closer than this fraction of the shorter side to the bracket's middle or ends
 # is replaced by a golden-section step into the longer side
 _GOLDEN_GUARD = 1e-3
+
+
+def _check_peak_refine(peak_refine: object) -> None:
+    if not (isinstance(peak_refine, str) and peak_refine in ("zoom", "parabolic")):
+        raise ValueError(f"peak_refine must be 'zoom' or 'parabolic', got {peak_refine!r}")
 
 
 def _parabolic_max(fun: Callable[[NDArray], NDArray], x: NDArray, f: NDArray, steps: int = 8) -> tuple[NDArray, NDArray]:
@@ -362,8 +367,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         How each peak is refined from its grid point and neighbours: nested grids (:func:`_zoom_max`, 85 points per
         peak; default, every stored result) or safeguarded parabolic interpolation (:func:`_parabolic_max`, 8 points).
     """
-    if peak_refine not in ("zoom", "parabolic"):
-        raise ValueError(f"peak_refine must be 'zoom' or 'parabolic', got {peak_refine!r}")
+    _check_peak_refine(peak_refine)
     if plant.n_delta:
         raise ValueError("loop_peaks needs a plant without open Delta channels (substitute the uncertain parameters)")
     k = plant._check_gain(gain)
@@ -492,13 +496,12 @@ class _Eigen:
     """Closed-loop poles of one plant, with their margins ``value = Re lambda + zeta_req |lambda|`` and, computed on
     demand (only the optimiser's linearisations need them) and kept (a rejected step linearises the same state again),
     ``vectors() = (w_i^H B_v rows (n x 4), C_y v_i columns (8 x n))`` for right/left eigenvectors with ``w_i^H v_i = 1``.
-    ``form`` and ``gain``: the plant's modal form and the gain, for poles from the fast path (None: dense)."""
+    ``form``: the plant's modal form, for poles from the fast path (None: dense)."""
 
     lam: NDArray
     value: NDArray
     compute: Callable[[], tuple[NDArray, NDArray]]
     form: ModalLoop | None = None
-    gain: NDArray | None = None
     known: tuple[NDArray, NDArray] | None = None  # vectors(), once computed (or computed elsewhere: _prefetch_vectors)
 
     @classmethod
@@ -509,7 +512,7 @@ class _Eigen:
     @classmethod
     def modal(cls, loop: ModalLoop, gain: NDArray, lam: NDArray, value: NDArray) -> "_Eigen":
         """From the poles ``lam`` of :meth:`lib.modalloop.ModalLoop.poles` at ``gain``."""
-        return cls(lam, value, lambda: loop.pole_data(gain, lam), loop, gain)
+        return cls(lam, value, lambda: loop.pole_data(gain, lam), loop)
 
     def vectors(self) -> tuple[NDArray, NDArray]:
         if self.known is None:
@@ -828,18 +831,12 @@ def _remote_pole_data(form: ModalLoop, lam: NDArray, gain: NDArray) -> tuple[NDA
     return form.pole_data(gain, lam)
 
 
-def _prefetch_vectors(pool: ModalPool, plants: Sequence[GeneralizedPlant], eigens: Sequence[_Eigen]) -> None:
-    """The pole vectors of the fast-path decompositions ``eigens`` (of ``plants`` at one gain) not yet computed, on
+def _prefetch_vectors(pool: ModalPool, plants: Sequence[GeneralizedPlant], eigens: Sequence[_Eigen], gain: NDArray) -> None:
+    """The pole vectors of the fast-path decompositions ``eigens`` (of ``plants`` at ``gain``) not yet computed, on
     ``pool``'s workers (the same values: :meth:`lib.modalloop.ModalLoop.pole_data` of the same form and poles)."""
-    todo: list[tuple[GeneralizedPlant, _Eigen, ModalLoop, NDArray]] = [
-        (p, e, e.form, e.gain) for p, e in zip(plants, eigens) if e.known is None and e.form is not None and e.gain is not None]
-    if not todo:
-        return
-    gain = todo[0][3]
-    if any(g is not gain and not np.array_equal(g, gain) for *_, g in todo):
-        raise ValueError("internal error: the decompositions to complete are not all at one gain")
-    for (_, e, _, _), vectors in zip(todo, pool.map(_remote_pole_data, [(p, e.lam) for p, e, _, _ in todo], gain,
-                                                    local=lambda j: _remote_pole_data(todo[j][2], todo[j][1].lam, gain))):
+    todo = [(p, e, e.form) for p, e in zip(plants, eigens) if e.known is None and e.form is not None]
+    for (_, e, _), vectors in zip(todo, pool.map(_remote_pole_data, [(p, e.lam) for p, e, _ in todo], gain,
+                                                 local=lambda j: _remote_pole_data(todo[j][2], todo[j][1].lam, gain))):
         e.known = vectors
 
 
@@ -1303,8 +1300,7 @@ def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damp
     for name, flag in (("fast_search", fast_search), ("processes", processes)):
         if not isinstance(flag, (bool, np.bool_)):
             raise TypeError(f"{name} must be True or False, got {flag!r}")
-    if not (isinstance(peak_refine, str) and peak_refine in ("zoom", "parabolic")):
-        raise ValueError(f"peak_refine must be 'zoom' or 'parabolic', got {peak_refine!r}")
+    _check_peak_refine(peak_refine)
     if search_thetas_deg is not None:  # else checked by the first worst-case search, after a round of optimisation
         _thetas_deg(search_thetas_deg, "search_thetas_deg")
     _n_workers(workers)
@@ -1414,7 +1410,7 @@ class _Problem:
             return out
 
         if self.pool is not None:
-            _prefetch_vectors(self.pool, self.plants, [lp.decomposition() for lp in state.peaks])
+            _prefetch_vectors(self.pool, self.plants, [lp.decomposition() for lp in state.peaks], state.gain)
         found = [r for lp in state.peaks for r in rows(lp.decomposition(), 6 if all_plants else 2)]
         extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check, self.modal(p))
                  for x, p in zip(state.extra, self.checks)]
