@@ -1080,7 +1080,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
                verbose: bool = False, fast: bool = False, trust_region: str = "box", restoration: str = "minmax",
                max_unstable: int = 1, fast_search: bool = False, search_max_evals: int = 30,
-               peak_refine: str = "zoom", processes: bool = False) -> SynthesisResult:
+               peak_refine: str = "zoom", processes: bool = False, stall_steps: int = 5,
+               carry_history: bool = False) -> SynthesisResult:
     """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
 
     Parameters
@@ -1192,6 +1193,16 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         their modal forms (:mod:`lib.modalpool`, started at the first such synthesis and kept), instead of threads,
         which the fast path's small numpy calls hold to 1.25-1.5 times one's speed. The same values as with threads.
         Where processes cannot be started (a Dask worker is a daemonic process), threads, with a warning. Default False.
+    stall_steps : int
+        The optimiser of a round stops when J has decreased by less than ``tol`` (relative) over its last
+        ``stall_steps`` accepted steps (default 5, every stored result). Fewer stop the slow final creep sooner, so a
+        round needs fewer steps, at the price of a J_c a little above what more steps would reach.
+    carry_history : bool
+        In a round after the first, when the scenarios the search added leave the set's J within ``tol`` of the last
+        round's (and Z below ``gamma_u``), continue the last round's accepted J values in the stopping test instead of
+        starting it afresh: the optimiser then stops as soon as J stalls, instead of after at least ``stall_steps + 1``
+        accepted steps that repeat the stall the last round already measured. Default False (every stored result).
+        These two options and their effect on warm starts: ``benchmarks/warm_search.py`` (README).
     """
     t0 = time.perf_counter()
     _check_scalar_options(min_damping=min_damping, omega_check=omega_check, min_damping_all=min_damping_all,
@@ -1199,7 +1210,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                           search_thetas_deg=search_thetas_deg, min_decay=min_decay, band=band, margin=margin, tol=tol,
                           cover_tol=cover_tol, radius0=radius0, workers=workers, trust_region=trust_region,
                           restoration=restoration, max_unstable=max_unstable, fast_search=fast_search,
-                          search_max_evals=search_max_evals, peak_refine=peak_refine, processes=processes)
+                          search_max_evals=search_max_evals, peak_refine=peak_refine, processes=processes,
+                          stall_steps=stall_steps, carry_history=carry_history)
     if processes and not fast:
         raise ValueError("processes=True needs fast=True (the worker processes keep the plants' modal forms)")
     settings = settings or LoopSettings.from_parameters()
@@ -1229,7 +1241,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         prob = _Problem(plants_for(scen), list(stability_models), pmap,
                         min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
                         min_damping_all, chunk=_n_workers(workers), fast=fast, trust_region=trust_region,
-                        restoration=restoration, peak_refine=peak_refine, pool=pool)
+                        restoration=restoration, peak_refine=peak_refine, pool=pool, stall_steps=stall_steps,
+                        carry_history=carry_history)
         state = None
         # fast_search: each loop's grid plants keep their modal forms from one search to the next
         grid_forms: list[dict | None] = [{} if fast_search else None for _ in loops]
@@ -1278,7 +1291,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
 def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damping, max_iter, max_rounds, search_thetas_deg,
                           min_decay, band, margin, tol, cover_tol, radius0, workers, trust_region="box",
                           restoration="minmax", max_unstable=1, fast_search=False, search_max_evals=30,
-                          peak_refine="zoom", processes=False) -> None:
+                          peak_refine="zoom", processes=False, stall_steps=5, carry_history=False) -> None:
     """The checks of :func:`synthesize`'s scalar options (before anything is computed)."""
     if not (isinstance(trust_region, str) and trust_region in ("box", "ball", "bfgs")):
         raise ValueError(f"trust_region must be 'box', 'ball' or 'bfgs', got {trust_region!r}")
@@ -1297,7 +1310,8 @@ def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damp
     _check_option("max_rounds", max_rounds, 1, integer=True)
     _check_option("max_unstable", max_unstable, 1, integer=True)
     _check_option("search_max_evals", search_max_evals, 1, integer=True)
-    for name, flag in (("fast_search", fast_search), ("processes", processes)):
+    _check_option("stall_steps", stall_steps, 1, integer=True)
+    for name, flag in (("fast_search", fast_search), ("processes", processes), ("carry_history", carry_history)):
         if not isinstance(flag, (bool, np.bool_)):
             raise TypeError(f"{name} must be True or False, got {flag!r}")
     _check_peak_refine(peak_refine)
@@ -1341,9 +1355,12 @@ class _Problem:
     restoration: str = "minmax"
     peak_refine: str = "zoom"
     pool: ModalPool | None = None  # worker processes for the fast path's evaluations (None: the threads of pmap)
+    stall_steps: int = 5
+    carry_history: bool = False
     iterations: int = 0
     evaluations: int = 0
     history: list[dict] = field(default_factory=list)
+    accepted: list[float] = field(default_factory=list)  # the J of the last optimisation's accepted steps (its stopping test)
     _modal: dict[int, ModalLoop] = field(default_factory=dict, repr=False)
 
     def modal(self, plant: GeneralizedPlant) -> ModalLoop | None:
@@ -1491,6 +1508,8 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
     # 2.8 -> 2.9 cm, where the others reach 0.02), and a phase that ended exactly at the bound aimed at would crawl to it
     restored = gamma * (1 - 0.5 * prob.margin) if prob.restoration == "least_change" else gamma
     restoring = state.value("effort") >= restored
+    if prob.carry_history and prob.accepted and not restoring and state.value("rpe") <= prob.accepted[-1] * (1 + prob.tol):
+        accepted = list(prob.accepted)  # the set's J barely moved since the last round: its stopping test goes on
     for _ in range(prob.max_iter):
         prob.iterations += 1
         z_now = state.value("effort")
@@ -1565,14 +1584,16 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             accepted = accepted + [trial.value("rpe")] if feasible else []
             if feasible and metric is not None:
                 last = (sol[0], grad)
-            if len(accepted) > 5 and accepted[-6] - accepted[-1] < prob.tol * accepted[-1]:
-                break  # less than tol relative decrease of J over the last 5 accepted steps
+            if len(accepted) > prob.stall_steps and accepted[-prob.stall_steps - 1] - accepted[-1] < prob.tol * accepted[-1]:
+                break  # less than tol relative decrease of J over the last stall_steps accepted steps
         else:
             if small:
                 break
             radius = radius / 4
     else:
+        prob.accepted = accepted
         return state, True
+    prob.accepted = accepted
     return state, False
 
 
