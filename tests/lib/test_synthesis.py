@@ -502,7 +502,8 @@ def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     ("max_unstable", 0, ValueError), ("max_unstable", 1.5, TypeError), ("search_max_evals", 0, ValueError),
     ("fast_search", "yes", TypeError), ("peak_refine", "golden", ValueError), ("processes", 1, TypeError),
     ("processes", True, ValueError), ("stall_steps", 0, ValueError), ("stall_steps", 2.5, TypeError),
-    ("carry_history", "yes", TypeError)])
+    ("stall_steps", True, TypeError), ("carry_history", "yes", TypeError), ("carry_history", 1, TypeError),
+    ("tol", float("inf"), ValueError), ("tol", 1.0, ValueError)])
 def test_synthesis_options_are_checked_before_any_work(option, value, error):
     """A bad option is named with its allowed range before any model is touched (the model here is not even one)."""
     with pytest.raises(error, match=option):
@@ -1045,63 +1046,98 @@ def _stall(js: list[float], k: int, tol: float) -> list[bool]:
     return [i >= k and js[i - k] - js[i] < tol * js[i] for i in range(len(js))]
 
 
+def _stall_problem(plants, carry: bool = False, accepted=(), accepted_at=None):
+    return synthesis._Problem(list(plants), [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4,
+                              trust_region="ball", stall_steps=2, carry_history=carry, accepted=list(accepted),
+                              accepted_at=accepted_at)
+
+
+def _optimised(prob, state) -> list[float]:
+    """The J values of the optimisation-phase steps ``_optimise`` accepts from ``state`` (not at its iteration limit)."""
+    _, at_limit = synthesis._optimise(prob, state)
+    assert not at_limit
+    return [h["J"] for h in prob.history if h["phase"] == "optimise"]
+
+
 @pytest.fixture(scope="module")
-def stall_start(model, inertia):
-    """Two scenario plants at 2.139 cm and the 2.1 cm grid gain, stabilised (Z = 1.29, J = 0.038, measured)."""
+def stall_round(model, inertia):
+    """Two scenario plants at 2.139 cm, the 2.1 cm grid gain stabilised (Z = 1.29, J = 0.038, measured), then one
+    optimisation with ``stall_steps = 2`` (one feasibility step, then 11 steps, J 0.0198 to 0.0135, measured): the
+    plants, the start, the problem after it and the state it ended at."""
     plants = [plant_at(model, s, inertia, ST) for s in (Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)),
                                                          Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)))]
-    prob = synthesis._Problem(list(plants), [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4,
-                              trust_region="ball")
-    return plants, synthesis._stabilise(prob, prob.evaluate_all(_grid_gain(0.021)))
+    prob = _stall_problem(plants)
+    start = synthesis._stabilise(prob, prob.evaluate_all(_grid_gain(0.021)))
+    prob.history.clear()
+    end, _ = synthesis._optimise(prob, start)
+    return plants, start, prob, end
 
 
-def _stall_problem(plants, carry: bool, accepted=()):
-    return synthesis._Problem(list(plants), [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4,
-                              trust_region="ball", stall_steps=2, carry_history=carry, accepted=list(accepted))
-
-
-def test_optimiser_stops_at_the_first_stall_of_stall_steps(stall_start):
-    """With ``stall_steps = 2`` the optimisation phase (after its feasibility steps) stops at the first accepted step
-    where J has decreased by less than ``tol`` over the last 2 (measured: 11 steps, J 0.0198 to 0.0135), not before, and
-    not at the iteration limit; the accepted J values are kept on the problem for the next round's test."""
-    plants, start = stall_start
-    prob = _stall_problem(plants, carry=False)
-    end, at_limit = synthesis._optimise(prob, start)
+def test_optimiser_stops_at_the_first_stall_of_stall_steps(stall_round):
+    """With ``stall_steps = 2`` the optimisation phase (after its feasibility step) stops at the first accepted step
+    where J has decreased by less than ``tol`` over the last 2, not before, and not at the iteration limit; the accepted
+    J values and the final gain are left on the problem for the next round's test."""
+    _, _, prob, end = stall_round
     js = [h["J"] for h in prob.history if h["phase"] == "optimise"]
     stalled = _stall(js, 2, 1e-2)
-    assert not at_limit and len(js) >= 4
-    assert stalled[-1] and not any(stalled[:-1])
-    assert prob.accepted == js and end.value("rpe") == js[-1]
+    assert stalled[-1] and not any(stalled[:-1]) and len(js) >= 4
+    assert [h["phase"] for h in prob.history][0] == "feasibility"
+    assert prob.accepted == js and end.value("rpe") == js[-1] and np.array_equal(prob.accepted_at, end.gain)
 
 
-@pytest.mark.parametrize("carry", [True, False])
-def test_carried_history_stops_a_round_that_starts_stalled(model, inertia, stall_start, carry):
-    """A second round whose added scenario leaves J unchanged (a copy of a set scenario): with ``carry_history`` its
-    stopping test goes on from the last round's J values and stops at the first step where it holds over both
-    (measured: 1 step); without, it starts afresh and needs at least ``stall_steps + 1`` steps (measured: 3). A scenario
-    that raises J by more than ``tol`` (0.0135 to 0.021) starts the test afresh either way: the same steps."""
-    plants, start = stall_start
-    first = _stall_problem(plants, carry)
-    end, _ = synthesis._optimise(first, start)
-    history = list(first.accepted)
+def test_carried_history_stops_a_round_that_starts_stalled(model, inertia, stall_round):
+    """A second round whose added scenario leaves J unchanged (the plant of a set scenario added again): with
+    ``carry_history`` its stopping test goes on from the last round's J values and stops at the first step where it
+    holds over both (measured: 1 step); without, it starts afresh and needs at least ``stall_steps + 1`` steps
+    (measured: 3). A scenario that raises J by more than ``tol`` (0.0135 to 0.021, measured) starts the test afresh
+    either way: the same steps with and without."""
+    plants, _, first, end = stall_round
+    history, at = list(first.accepted), first.accepted_at
     other = plant_at(model, Scenario(0.5, 0.5, 0.5, np.deg2rad(80.0)), inertia, ST)
     runs = {}
-    for name, added in (("copy", plants[0]), ("raised", other)):
-        prob = _stall_problem(plants + [added], carry, history)
-        state = prob.extend(end)
-        if name == "copy":
-            assert state.value("rpe") == end.value("rpe")
-        else:
-            assert state.value("rpe") > 1.5 * end.value("rpe")
-        _, at_limit = synthesis._optimise(prob, state)
-        runs[name] = [h["J"] for h in prob.history if h["phase"] == "optimise"]
-        assert not at_limit
-    copy, raised = runs["copy"], runs["raised"]
-    if carry:
-        stalled = _stall(history + copy, 2, 1e-2)[len(history):]
-        assert stalled[-1] and not any(stalled[:-1]) and len(copy) < 3
+    for carry in (True, False):
+        for name, added in (("again", plants[0]), ("raised", other)):
+            prob = _stall_problem(plants + [added], carry, history, at)
+            state = prob.extend(end)
+            assert (state.value("rpe") == end.value("rpe")) if name == "again" else (state.value("rpe") > 1.5 * end.value("rpe"))
+            runs[carry, name] = _optimised(prob, state)
+    carried = _stall(history + runs[True, "again"], 2, 1e-2)[len(history):]
+    assert carried[-1] and not any(carried[:-1]) and len(runs[True, "again"]) < 3
+    fresh = _stall(runs[False, "again"], 2, 1e-2)
+    assert fresh[-1] and not any(fresh[:-1]) and len(runs[False, "again"]) >= 3
+    assert runs[True, "raised"] == runs[False, "raised"]
+    assert _stall(runs[True, "raised"], 2, 1e-2)[-1] and not any(_stall(runs[True, "raised"], 2, 1e-2)[:-1])
+
+
+@pytest.mark.parametrize("scale, moved, carried", [(1 - 0.5e-2, False, True), (1 - 2e-2, False, False), (1.0, True, False)])
+def test_history_is_carried_only_at_the_same_gain_and_within_tol(stall_round, scale, moved, carried):
+    """The last round's J values are carried only if the state is at the gain where that round ended (a stabilisation
+    step in between starts the test afresh) and its J is at most ``(1 + tol)`` times their last: here the same state,
+    with the carried values scaled so that its J is 0.5 % above them (carried: the first step stops the round, as the
+    test holds over the carried values), 2 % above (not carried), or at a gain moved by 1e-9 (not carried)."""
+    plants, _, first, end = stall_round
+    history = [j * scale for j in first.accepted]
+    at = first.accepted_at + (1e-9 if moved else 0.0)
+    prob = _stall_problem(plants, True, history, at)
+    js = _optimised(prob, end)
+    assert prob.history[0]["phase"] == "optimise"
+    if carried:
+        assert len(js) == 1 and _stall(history + js, 2, 1e-2)[-1]
     else:
-        stalled = _stall(copy, 2, 1e-2)
-        assert stalled[-1] and not any(stalled[:-1]) and len(copy) >= 3
-    fresh = _stall(raised, 2, 1e-2)
-    assert fresh[-1] and not any(fresh[:-1]) and len(raised) >= 3
+        assert js == _optimised(_stall_problem(plants), end) and len(js) >= 3
+
+
+def test_synthesize_passes_its_stopping_options_to_the_problem(model, inertia, monkeypatch):
+    """``stall_steps`` and ``carry_history`` reach the optimiser of every round (the default 5 and False otherwise)."""
+    seen: list[tuple[int, bool]] = []
+    optimise = synthesis._optimise
+
+    def recording(prob, state):
+        seen.append((prob.stall_steps, prob.carry_history))
+        return optimise(prob, state)
+
+    monkeypatch.setattr(synthesis, "_optimise", recording)
+    kw = dict(gain0=_grid_gain(0.021), scenarios=[Scenario()], max_iter=2, max_rounds=1, search_thetas_deg=[0.0], workers=1)
+    synthesis.synthesize(model, inertia, ST, **kw)
+    synthesis.synthesize(model, inertia, ST, stall_steps=3, carry_history=True, **kw)
+    assert seen == [(5, False), (3, True)]
