@@ -1046,10 +1046,9 @@ def _stall(js: list[float], k: int, tol: float) -> list[bool]:
     return [i >= k and js[i - k] - js[i] < tol * js[i] for i in range(len(js))]
 
 
-def _stall_problem(plants, carry: bool = False, accepted=(), accepted_at=None):
+def _stall_problem(plants, carry: bool = False, accepted=()):
     return synthesis._Problem(list(plants), [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4,
-                              trust_region="ball", stall_steps=2, carry_history=carry, accepted=list(accepted),
-                              accepted_at=accepted_at)
+                              trust_region="ball", stall_steps=2, carry_history=carry, accepted=list(accepted))
 
 
 def _optimised(prob, state) -> list[float]:
@@ -1076,13 +1075,13 @@ def stall_round(model, inertia):
 def test_optimiser_stops_at_the_first_stall_of_stall_steps(stall_round):
     """With ``stall_steps = 2`` the optimisation phase (after its feasibility step) stops at the first accepted step
     where J has decreased by less than ``tol`` over the last 2, not before, and not at the iteration limit; the accepted
-    J values and the final gain are left on the problem for the next round's test."""
+    J values are left on the problem for the next round's test."""
     _, _, prob, end = stall_round
     js = [h["J"] for h in prob.history if h["phase"] == "optimise"]
     stalled = _stall(js, 2, 1e-2)
     assert stalled[-1] and not any(stalled[:-1]) and len(js) >= 4
     assert [h["phase"] for h in prob.history][0] == "feasibility"
-    assert prob.accepted == js and end.value("rpe") == js[-1] and np.array_equal(prob.accepted_at, end.gain)
+    assert prob.accepted == js and end.value("rpe") == js[-1]
 
 
 def test_carried_history_stops_a_round_that_starts_stalled(model, inertia, stall_round):
@@ -1092,12 +1091,12 @@ def test_carried_history_stops_a_round_that_starts_stalled(model, inertia, stall
     (measured: 3). A scenario that raises J by more than ``tol`` (0.0135 to 0.021, measured) starts the test afresh
     either way: the same steps with and without."""
     plants, _, first, end = stall_round
-    history, at = list(first.accepted), first.accepted_at
+    history = list(first.accepted)
     other = plant_at(model, Scenario(0.5, 0.5, 0.5, np.deg2rad(80.0)), inertia, ST)
     runs = {}
     for carry in (True, False):
         for name, added in (("again", plants[0]), ("raised", other)):
-            prob = _stall_problem(plants + [added], carry, history, at)
+            prob = _stall_problem(plants + [added], carry, history)
             state = prob.extend(end)
             assert (state.value("rpe") == end.value("rpe")) if name == "again" else (state.value("rpe") > 1.5 * end.value("rpe"))
             runs[carry, name] = _optimised(prob, state)
@@ -1109,20 +1108,23 @@ def test_carried_history_stops_a_round_that_starts_stalled(model, inertia, stall
     assert _stall(runs[True, "raised"], 2, 1e-2)[-1] and not any(_stall(runs[True, "raised"], 2, 1e-2)[:-1])
 
 
-@pytest.mark.parametrize("scale, moved, carried", [(1 - 0.5e-2, False, True), (1 - 2e-2, False, False), (1.0, True, False)])
-def test_history_is_carried_only_at_the_same_gain_and_within_tol(stall_round, scale, moved, carried):
-    """The last round's J values are carried only if the state is at the gain where that round ended (a stabilisation
-    step in between starts the test afresh) and its J is at most ``(1 + tol)`` times their last: here the same state,
-    with the carried values scaled so that its J is 0.5 % above them (carried: the first step stops the round, as the
-    test holds over the carried values), 2 % above (not carried), or at a gain moved by 1e-9 (not carried)."""
+@pytest.mark.parametrize("scale, carried", [(1 - 0.5e-2, "stalled"), (1 - 2e-2, "no"), (1 + 5e-2, "below")])
+def test_history_is_carried_only_within_tol(stall_round, scale, carried):
+    """The last round's J values are carried only if the state's J is at most ``(1 + tol)`` times their last: here the
+    same state, with the carried values scaled so that its J is 0.5 % above them (carried: the first step stops the
+    round, as the test holds over the carried values), 2 % above (not carried: the same steps as without a history),
+    or 5 % below them (as after a stabilisation that lowered J: carried, and counted as progress, so the round goes on
+    until the test holds over its own steps, at least ``stall_steps + 1`` of them)."""
     plants, _, first, end = stall_round
     history = [j * scale for j in first.accepted]
-    at = first.accepted_at + (1e-9 if moved else 0.0)
-    prob = _stall_problem(plants, True, history, at)
+    prob = _stall_problem(plants, True, history)
     js = _optimised(prob, end)
     assert prob.history[0]["phase"] == "optimise"
-    if carried:
-        assert len(js) == 1 and _stall(history + js, 2, 1e-2)[-1]
+    held = _stall(history + js, 2, 1e-2)[len(history):]
+    if carried == "stalled":
+        assert len(js) == 1 and held[-1]
+    elif carried == "below":
+        assert held[-1] and not any(held[:-1]) and len(js) >= 3
     else:
         assert js == _optimised(_stall_problem(plants), end) and len(js) >= 3
 
