@@ -161,8 +161,13 @@ class ModalPool:
             self._keys[id(plant)] = (next(self._count), plant)
         return self._keys[id(plant)][0]
 
+    @property
+    def _stopped(self) -> bool:
+        """Whether the pool has been stopped (closed, or abandoned after an interrupted call)."""
+        return self._broken or not self._conns
+
     def _usable(self) -> None:
-        if self._broken or not self._conns:
+        if self._stopped:
             raise RuntimeError("this ModalPool has been stopped (closed, or a call was interrupted); "
                                "lib.modalpool.shared_pool() starts a new one")
 
@@ -229,7 +234,7 @@ class ModalPool:
         """Drop every plant and form (the workers' and this side's registry); call when a synthesis ends. Nothing to
         do on a stopped pool."""
         with self._lock:
-            if self._broken or not self._conns:
+            if self._stopped:
                 return
             gathered = False
             try:
@@ -272,7 +277,7 @@ class ModalPool:
             status, value = self._conns[w].recv()
         except (EOFError, OSError) as exc:
             raise _Stopped(f"modal-form worker {w} has stopped (exit code {self._procs[w].exitcode}); "
-                               "lib.modalpool.shared_pool() starts a new pool") from exc
+                           "lib.modalpool.shared_pool() starts a new pool") from exc
         if status == "error":
             raise _WorkerError(f"an evaluation failed in modal-form worker {w}:\n{value}")
         return value
@@ -280,18 +285,12 @@ class ModalPool:
     @property
     def alive(self) -> bool:
         """Whether the pool can be used: not stopped, every worker running."""
-        return not self._broken and bool(self._procs) and all(p.is_alive() for p in self._procs)
+        return not self._stopped and all(p.is_alive() for p in self._procs)
 
     def _abandon(self) -> None:
         """Stop the workers at once (their pipes may hold replies no call will read) and refuse further calls."""
         self._broken = True
-        for proc in self._procs:
-            if proc.is_alive():
-                proc.kill()
-            proc.join(timeout=5)
-        for conn in self._conns:
-            conn.close()
-        self._conns, self._procs = [], []
+        self._release(wait=False)
         self._keys, self._known = {}, []
 
     def close(self) -> None:
@@ -309,10 +308,16 @@ class ModalPool:
                 conn.send(None)
             except (BrokenPipeError, EOFError, OSError):
                 pass
+        self._release(wait=True)
+
+    def _release(self, wait: bool) -> None:
+        """End the workers (``wait``: up to 5 s each for those asked to stop, else killed at once) and close the pipes."""
         for proc in self._procs:
-            proc.join(timeout=5)
+            if wait:
+                proc.join(timeout=5)
             if proc.is_alive():
                 proc.kill()
+            proc.join(timeout=5)
         for conn in self._conns:
             conn.close()
         self._conns, self._procs = [], []
