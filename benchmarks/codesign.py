@@ -5,11 +5,11 @@ best particle; the particles of an iteration run on a local Dask cluster (one wo
 each). Reports the wall time, the time per objective evaluation split into model assembly, reduction and synthesis,
 and the result; saves benchmarks/results/codesign.json. The paper: 11 h 16 min on 24 cores.
 
-With ``--fast`` every synthesis evaluates the optimiser's plants by the fast path (``fast=True``, :mod:`lib.modalloop`;
+With ``--fast`` every synthesis evaluates the optimiser's plants by the fast path (``fast=True``, :mod:`trusscodesign.modalloop`;
 J_c, Z_c and success still from the dense final evaluation and searches); its checkpoint and JSON are separate
 (``runs/benchmark_codesign_fast_checkpoint.json``, ``results/codesign_fast.json``). An interrupted run resumes from its
 checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in. With
-``--rule matlab`` the swarm adapts by MATLAB particleswarm's rules as its code applies them (:mod:`lib.pso`), with
+``--rule matlab`` the swarm adapts by MATLAB particleswarm's rules as its code applies them (:mod:`trusscodesign.pso`), with
 ``_matlab_rule`` added to the names of the checkpoint and JSON; with ``--trust-region ball`` every synthesis steps in the
 box cut by a ball (``benchmarks/trust_region.py``), ``_ball`` added to the names; with ``--restoration least_change``
 stability is restored by least-change steps (``benchmarks/restoration.py``), ``_least_change`` added (notebook 07's
@@ -34,7 +34,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from lib import codesign  # noqa: E402
+from trusscodesign import codesign  # noqa: E402
 
 
 def _suffix(fast: bool, rule: str, trust_region: str = "box", restoration: str = "minmax") -> str:
@@ -51,24 +51,24 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=0)
     parser.add_argument("--seed", type=int, default=2026)
     parser.add_argument("--checkpoint", default="", help="default runs/benchmark_codesign[_fast]_checkpoint.json")
-    parser.add_argument("--fast", action="store_true", help="the fast evaluation path in every synthesis (lib.modalloop)")
+    parser.add_argument("--fast", action="store_true", help="the fast evaluation path in every synthesis (trusscodesign.modalloop)")
     parser.add_argument("--rule", choices=["documented", "matlab"], default="documented",
-                        help="MATLAB particleswarm's adaptive rules as documented (default) or as its code applies them (lib.pso)")
+                        help="MATLAB particleswarm's adaptive rules as documented (default) or as its code applies them (trusscodesign.pso)")
     parser.add_argument("--stop-after", type=int, default=None,
                         help="stop after this many iterations in all (resume later with the same checkpoint)")
     parser.add_argument("--report", default="", help="report the timing stored in this checkpoint instead of running")
     parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign[_fast].json;"
                         " give another path for a rerun that must not replace the stored one)")
     parser.add_argument("--trust-region", choices=["box", "ball"], default="box",
-                        help="shape of every synthesis step (lib.synthesis.synthesize, trust_region; default the box)")
+                        help="shape of every synthesis step (trusscodesign.synthesis.synthesize, trust_region; default the box)")
     parser.add_argument("--restoration", choices=["minmax", "least_change"], default="minmax",
-                        help="the steps that restore stability (lib.synthesis.synthesize, restoration; default min-max)")
+                        help="the steps that restore stability (trusscodesign.synthesis.synthesize, restoration; default min-max)")
     args = parser.parse_args()
     suffix = _suffix(args.fast, args.rule, args.trust_region, args.restoration)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
     options = codesign.synthesis_options(args.fast, args.trust_region, args.restoration)
     if args.report:
-        from lib import pso
+        from trusscodesign import pso
 
         state = pso.load_state(args.report)
         run_options = state.extra.get("options") or {}

@@ -1,6 +1,6 @@
 """Benchmark: the synthesis's restoration steps, min-max (the default) against least-change.
 
-``lib.synthesis.synthesize(restoration=...)``: when the gain must be made stable again (a warm start from another h,
+``trusscodesign.synthesis.synthesize(restoration=...)``: when the gain must be made stable again (a warm start from another h,
 or a scenario a worst-case search added, unstable at the current gain) and then feasible (``Z < gamma_u``), the min-max
 step minimises the largest linearised pole margin (then the largest effort peak) in the trust region and so moves the
 gain to the region's edge; the least-change step is the smallest step whose linearised margins (then effort peaks) reach
@@ -40,8 +40,8 @@ import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
 from robust_synthesis import grid_design  # noqa: E402
-from lib import codesign, design, synthesis  # noqa: E402
-from lib.closedloop import LoopSettings  # noqa: E402
+from trusscodesign import codesign, design, synthesis  # noqa: E402
+from trusscodesign.closedloop import LoopSettings  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
 WARM_FROM = (0.016, 0.019, 0.021, 0.024, 0.028)
@@ -59,7 +59,7 @@ def cases(steps: tuple[float, ...] = STEPS, cold: bool = True) -> list[tuple[str
 
 def run_case(name: str, h: float, h0: float | None, options: dict, workers: int, source: str = "ball", **key) -> dict:
     """One synthesis of a case (``h`` [m], warm-started from the grid ``source``'s design at ``h0`` [m], its gain and
-    scenario set, or cold if None) with ``options`` for :func:`lib.design.robust_design` and ``workers`` threads, BLAS on
+    scenario set, or cold if None) with ``options`` for :func:`trusscodesign.design.robust_design` and ``workers`` threads, BLAS on
     one thread; its record: ``key`` (the variant, e.g. ``restoration="minmax"``), J_c, Z_c, validity, iterations,
     searches and the synthesis's wall time [s] (the model's build left out)."""
     from threadpoolctl import threadpool_limits

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Install everything the project needs on a fresh machine (Debian, Python 3.11 with pip).
+# Install everything the project needs on a fresh machine (Linux x86_64, Python 3.11 with pip): the exact versions of
+# requirements.lock, then this checkout's package (editable: the notebooks and tests use this checkout's code).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
@@ -14,5 +15,5 @@ if ! { grep -q 'libblas\.so\.3' <<<"$libs" && grep -q 'liblapack\.so\.3' <<<"$li
     echo "warning: libblas3/liblapack3 missing and apt-get unavailable (not root): OpenSeesPy will not import" >&2
   fi
 fi
-"$PY" -m pip install --disable-pip-version-check -q -r requirements.txt
+"$PY" -m pip install --disable-pip-version-check -q -r requirements.lock
 "$PY" -m pip install --disable-pip-version-check -q --no-deps -e .

@@ -5,7 +5,7 @@
 #   bash scripts/run_notebooks.sh --params p.yaml --out runs/my_study
 #   bash scripts/run_notebooks.sh --params study_dir/ --out runs/my_study
 #
-# Executed copies go to <out>/notebooks (default runs/latest). With --out, figures and
+# Executed copies go to <out>/notebooks (default runs/latest), each with an HTML copy beside it. With --out, figures and
 # results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched.
 # --params takes a YAML file of parameters applied to every notebook (unknown names
 # are ignored by the notebooks that do not declare them), or a folder: its all.yaml (if any)
@@ -29,8 +29,8 @@ case "$out" in ""|/*) ;; *) out="$PWD/$out" ;; esac
 case "$params" in ""|/*) ;; *) params="$PWD/$params" ;; esac
 [ -z "$params" ] || [ -e "$params" ] || { echo "no parameter file or folder $params" >&2; exit 2; }
 cd "$(dirname "$0")/.."
-# the kernels (run in notebooks/) import this checkout's lib, whatever checkout is installed in editable mode
-export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
+# the kernels (run in notebooks/) import this checkout's package, whatever checkout is installed in editable mode
+export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
 # One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
 # process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).
@@ -55,6 +55,9 @@ for nb in notebooks/[0-9][0-9]_*.ipynb; do
   fi
   "$PY" -m papermill --log-level WARNING --cwd notebooks "$nb" "$nbdir/$(basename "$nb")" ${extra[@]+"${extra[@]}"} \
     ${own[@]+"${own[@]}"} || failed+=("$(basename "$nb")")
+  # an HTML copy beside the executed one (a failed notebook's too: it shows the error cell)
+  [ ! -f "$nbdir/$(basename "$nb")" ] || "$PY" -m nbconvert --log-level WARN --to html "$nbdir/$(basename "$nb")" \
+    || echo "warning: no HTML copy of $(basename "$nb")" >&2
 done
 echo "executed notebooks in $nbdir"
 if [ ${#failed[@]} -gt 0 ]; then

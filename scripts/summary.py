@@ -83,7 +83,7 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          f"{p6['J_c']} (co-design table) / {p6['Z_c_mu_upper']:.2f} / {p6['critical_omega_rad_s']:.1f} rad/s (mu analysis)",
          f"{d6['J_c']:.4f} / {d6['Z_c']:.3f} / {d6['worst_rpe']['rpe_omega_rad_s']:.1f} rad/s", "06"),
         (f"The same with the preset closest to the paper (t_Delta = {1e3 * preset['settings']['t_delta']:g} ms, "
-         "`data/spacecraft/presets/paper_match.json`)", "as above",
+         "`lib/trusscodesign/data/spacecraft/presets/paper_match.json`)", "as above",
          f"{t30['J_c']:.4f} / {t30['Z_c']:.3f} / {t30['critical_omega']:.1f} rad/s", "06"),
         ("Co-design optimum: h / truss mass / change from m0 / J_c",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",

@@ -1,27 +1,46 @@
 #!/usr/bin/env bash
-# Test command: install, then the unit tests of lib/ and every notebook under nbval.
+# Test command: install, then the unit tests of the package and every notebook under nbval.
 #
-# Each notebook is first given its smoke parameters (tests/smoke/NN_*.yaml: output folders
-# under build/smoke, smaller loops, never weaker physics checks) by papermill --prepare-only;
-# nbval then executes it, and the notebook's own asserts are the checks.
+# Each notebook is first given its smoke parameters (tests/smoke/NN_*.yaml: output folders under build/smoke, smaller
+# loops, never weaker physics checks) by papermill --prepare-only; nbval then executes it, and the notebook's own
+# asserts are the checks.
+#
+# Two plain pytest processes share the two cores (TEST_WORKERS=1: one process, everything in order). The first runs
+# the notebook chain, 07 then 08 (08 analyses the design that 07 stores in build/smoke/results), the longest part;
+# the second runs the unit tests and the other notebooks. pytest runs the files of one process in the order given on
+# its command line, each notebook's cells in order in one kernel: nothing here rests on how a plugin distributes
+# tests. Extra arguments go to both processes (e.g. -x, -k). The last line sums up both runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
-# the nbval kernels (run in build/smoke) import this checkout's lib, whatever checkout is installed in editable mode
-export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
+# the kernels and tests import this checkout's package, whatever checkout is installed in editable mode
+export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
 # One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
 # process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
-rm -rf build/smoke && mkdir -p build/smoke
+rm -rf build/smoke build/test-logs && mkdir -p build/smoke build/test-logs
+chain=() others=()
 for nb in notebooks/[0-9][0-9]_*.ipynb; do
   name="$(basename "$nb" .ipynb)"
   args=()
   if [ -f "tests/smoke/$name.yaml" ]; then args=(-f "tests/smoke/$name.yaml"); fi
   "$PY" -m papermill --log-level WARNING --prepare-only "$nb" "build/smoke/$name.ipynb" "${args[@]}"
+  case "$name" in 07_*|08_*) chain+=("build/smoke/$name.ipynb") ;; *) others+=("build/smoke/$name.ipynb") ;; esac
 done
-# Two pytest-xdist workers (TEST_WORKERS; 0: one process): each test module and each notebook stays on one worker,
-# and notebooks 07 and 08 (08 reads what 07 stores) run first, in order, on one worker (tests/conftest.py)
-"$PY" -m pytest tests build/smoke --nbval-lax --nbval-current-env -p no:cacheprovider \
-  -n "${TEST_WORKERS:-2}" --dist loadgroup --no-loadscope-reorder "$@"
+pytest=("$PY" -m pytest --nbval-lax --nbval-current-env -p no:cacheprovider)
+if [ "${TEST_WORKERS:-2}" = 1 ]; then
+  "${pytest[@]}" --junitxml=build/test-logs/all.xml tests "${chain[@]}" "${others[@]}" "$@" && rc=0 || rc=$?
+else
+  "${pytest[@]}" --junitxml=build/test-logs/chain.xml "${chain[@]}" "$@" > build/test-logs/chain.log 2>&1 &
+  chain_pid=$!
+  echo "notebooks ${chain[*]##*/} run in a second process (log: build/test-logs/chain.log)"
+  "${pytest[@]}" --junitxml=build/test-logs/main.xml tests "${others[@]}" "$@" && rc=0 || rc=$?
+  wait "$chain_pid" && chain_rc=0 || chain_rc=$?
+  echo "== the notebook chain (${chain[*]##*/}), exit status $chain_rc:"
+  tail -n 40 build/test-logs/chain.log
+  [ "$chain_rc" = 0 ] || rc=$chain_rc
+fi
+"$PY" scripts/test_summary.py build/test-logs/*.xml
+exit "$rc"

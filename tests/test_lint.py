@@ -38,17 +38,17 @@ def _mypy(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
 
 
 def test_code_type_checks() -> None:
-    run = _mypy()  # files and settings from pyproject.toml: lib/, benchmarks/, scripts/
+    run = _mypy()  # files and settings from pyproject.toml: lib/trusscodesign/, benchmarks/, scripts/
     assert run.returncode == 0, f"mypy found type errors (fix them; an ignore needs its reason):\n{run.stdout}{run.stderr}"
 
 
 def test_type_check_catches_real_mistakes(tmp_path: Path) -> None:
     # the project's configuration, on a module that passes a possibly-None value where a float is required
     shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
-    for folder in ("lib", "benchmarks", "scripts"):  # the folders pyproject.toml names, each with a clean module
-        (tmp_path / folder).mkdir()
-        (tmp_path / folder / f"ok_{folder}.py").write_text("")
-    (tmp_path / "lib" / "bad.py").write_text("def half(x: float) -> float:\n    return x / 2\n\n\n"
+    for folder in ("lib/trusscodesign", "benchmarks", "scripts"):  # the folders pyproject.toml names, each with a clean module
+        (tmp_path / folder).mkdir(parents=True)
+        (tmp_path / folder / f"ok_{Path(folder).name}.py").write_text("")
+    (tmp_path / "lib" / "trusscodesign" / "bad.py").write_text("def half(x: float) -> float:\n    return x / 2\n\n\n"
                                             "def f(d: dict[str, float]) -> float:\n    return half(d.get('a'))\n")
     run = _mypy(cwd=tmp_path)
     assert run.returncode == 1

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lib import synthesis
+from trusscodesign import synthesis
 
 ROOT = Path(__file__).parents[1]
 

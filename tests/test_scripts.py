@@ -60,7 +60,7 @@ def test_notebooks_import_the_library_of_this_checkout(tmp_path: Path) -> None:
     # where figures and results go), not whichever checkout was last installed in editable mode
     roots = tmp_path / "roots.txt"
     import sys
-    env = _fake(tmp_path, f"cd notebooks && {sys.executable} -c 'import lib.paths; print(lib.paths.ROOT)' >> {roots}\n")
+    env = _fake(tmp_path, f"cd notebooks && {sys.executable} -c 'import trusscodesign.paths; print(trusscodesign.paths.ROOT)' >> {roots}\n")
     subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "r")], cwd=ROOT, env=env, capture_output=True, text=True)
     assert set(roots.read_text().split()) == {str(ROOT.resolve())}
 
@@ -94,37 +94,64 @@ def _notebook(path: Path, source: str) -> None:
     nbformat.write(nb, path)
 
 
-def test_notebooks_07_and_08_run_on_one_worker_in_order(tmp_path: Path) -> None:
-    """The test command runs on 2 pytest-xdist workers: notebook 08, which reads what notebook 07 stores, must run after
-    07 on the same worker, whatever else is queued (tests/conftest.py groups them). Here 07 waits 3 s before it writes
-    its worker's name, and 08 fails unless it finds that file with its own worker's name: on separate workers, 08 would
-    start while 07 waits."""
+def _test_sh_calls(tmp_path: Path, workers: str) -> list[list[str]]:
+    """The pytest command lines of scripts/test.sh (every python call faked: it logs its arguments, one call a line)."""
     import shutil
+
+    # a copy of the checkout's layout (the script clears build/ beside it: never the running suite's own)
+    copy = tmp_path / "checkout"
+    shutil.copytree(ROOT / "scripts", copy / "scripts")
+    shutil.copytree(ROOT / "tests" / "smoke", copy / "tests" / "smoke")
+    (copy / "notebooks").mkdir()
+    for nb in (ROOT / "notebooks").glob("*.ipynb"):
+        (copy / "notebooks" / nb.name).touch()
+    calls = tmp_path / "calls.txt"
+    env = _fake(tmp_path, f"echo \"$*\" >> {calls}\n")
+    env["TEST_WORKERS"] = workers
+    run = subprocess.run(["bash", "scripts/test.sh", "-x"], cwd=copy, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return [line.split() for line in calls.read_text().splitlines() if line.startswith("-m pytest")]
+
+
+def test_the_test_command_runs_notebooks_07_and_08_alone_and_in_order(tmp_path: Path) -> None:
+    """Two processes: notebook 08 reads what 07 stores, so the chain (07, then 08) has one process to itself and the other
+    process gets the unit tests and every other notebook; no test-distribution plugin is asked for."""
+    notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    chain, main = _test_sh_calls(tmp_path, "2")
+    assert [Path(a).stem for a in chain if a.endswith(".ipynb")] == ["07_pso_codesign", "08_worst_case_mu"]
+    assert [Path(a).stem for a in main if a.endswith(".ipynb")] == [n for n in notebooks if not n.startswith(("07_", "08_"))]
+    assert "tests" in main and "tests" not in chain
+    assert chain[-1] == main[-1] == "-x"  # the caller's arguments reach both
+    assert not any(a in ("-n", "--dist") for a in chain + main)
+
+
+def test_the_test_command_in_one_process_keeps_the_chain_in_order(tmp_path: Path) -> None:
+    (only,) = _test_sh_calls(tmp_path, "1")
+    stems = [Path(a).stem for a in only if a.endswith(".ipynb")]
+    assert stems.index("08_worst_case_mu") == stems.index("07_pso_codesign") + 1
+
+
+def test_pytest_runs_notebooks_in_the_order_given(tmp_path: Path) -> None:
+    """What the chain rests on: one pytest process runs the files in the order of its command line, each notebook's
+    cells in order in one kernel. 07 sleeps before it writes a file that 08 reads."""
     import sys
 
-    shutil.copy(ROOT / "tests" / "conftest.py", tmp_path / "conftest.py")
-    mark = tmp_path / "written_by"
-    _notebook(tmp_path / "01_other.ipynb", "x = 1")
-    _notebook(tmp_path / "07_writes.ipynb", f"import os, time\ntime.sleep(3)\nopen({str(mark)!r}, 'w').write(os.environ['PYTEST_XDIST_WORKER'])")
-    _notebook(tmp_path / "08_reads.ipynb", f"import os\nassert open({str(mark)!r}).read() == os.environ['PYTEST_XDIST_WORKER']")
-    _notebook(tmp_path / "02_other.ipynb", "y = 2")
-    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--nbval-lax", "--nbval-current-env", "-n", "2",
-                          "--dist", "loadgroup", "--no-loadscope-reorder", str(tmp_path)], cwd=tmp_path, capture_output=True, text=True)
+    mark = tmp_path / "written"
+    _notebook(tmp_path / "07_writes.ipynb", f"import time\ntime.sleep(1)\nopen({str(mark)!r}, 'w').write('07')")
+    _notebook(tmp_path / "08_reads.ipynb", f"assert open({str(mark)!r}).read() == '07'")
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--nbval-lax", "--nbval-current-env",
+                          str(tmp_path / "07_writes.ipynb"), str(tmp_path / "08_reads.ipynb")], cwd=tmp_path,
+                         capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
-    assert "4 passed" in run.stdout
+    assert "2 passed" in run.stdout
 
 
-def test_notebooks_07_and_08_are_queued_first(tmp_path: Path) -> None:
-    """The chain is the longest group (about 15 of 25 min): it is collected first, 07 then 08, so the first worker starts
-    it at once and the other groups keep their order behind it."""
-    import shutil
+def test_the_summary_line_adds_up_both_reports(tmp_path: Path) -> None:
     import sys
 
-    shutil.copy(ROOT / "tests" / "conftest.py", tmp_path / "conftest.py")
-    for name in ("01_a", "08_reads", "02_b", "07_writes"):
-        _notebook(tmp_path / f"{name}.ipynb", "x = 1")
-    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "--collect-only", "-p", "no:cacheprovider", "--nbval-lax", str(tmp_path)],
-                         cwd=tmp_path, capture_output=True, text=True)
-    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
-    files = [line.split("::")[0] for line in run.stdout.splitlines() if "::" in line]
-    assert files == ["07_writes.ipynb", "08_reads.ipynb", "01_a.ipynb", "02_b.ipynb"]
+    for name, (tests, failures, errors, skipped) in {"a": (10, 1, 0, 2), "b": (5, 0, 1, 0)}.items():
+        (tmp_path / f"{name}.xml").write_text(f'<testsuites><testsuite tests="{tests}" failures="{failures}" errors="{errors}" '
+                                              f'skipped="{skipped}"/></testsuites>')
+    run = subprocess.run([sys.executable, str(ROOT / "scripts" / "test_summary.py"), str(tmp_path / "a.xml"), str(tmp_path / "b.xml")],
+                         capture_output=True, text=True)
+    assert run.stdout.strip() == "total: 11 passed, 2 failed, 2 skipped" and run.returncode == 0

@@ -3,7 +3,7 @@ paper's h = 2.139 cm and its rigid inertia at P1 (built once per test module, as
 
 import pytest
 
-from lib import spacecraft
+from trusscodesign import spacecraft
 
 
 @pytest.fixture(scope="module")

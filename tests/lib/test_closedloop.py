@@ -4,9 +4,9 @@ generalized plant against an independent frequency-domain composition from the a
 import numpy as np
 import pytest
 
-from lib import closedloop, ports, spacecraft
-from lib.closedloop import LoopSettings
-from lib.synthesis import Scenario, plant_at
+from trusscodesign import closedloop, ports, spacecraft
+from trusscodesign.closedloop import LoopSettings
+from trusscodesign.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
 W = np.array([0.03, 0.3, 2.9, 4.1, 31.0, 75.7, 97.0, 210.0, 480.0])

@@ -5,13 +5,13 @@ import csv
 import numpy as np
 import pytest
 
-from lib import cube, frame_fe, modal, opensees_fe, paths, reduction, titop
+from trusscodesign import cube, frame_fe, modal, opensees_fe, paths, reduction, titop
 
 COLS = ["T1", "T2", "T3", "R1", "R2", "R3"]
 
 
 def _table():
-    rows = list(csv.DictReader(open(paths.DATA / "nastran_cube" / "cube_modes.csv")))
+    rows = list(csv.DictReader(open(paths.PACKAGE_DATA / "nastran_cube" / "cube_modes.csv")))
     out = {}
     for model in ("patran_nastran", "paper_sdt"):
         sel = [r for r in rows if r["model"] == model]
@@ -194,7 +194,7 @@ def test_repeated_mode_has_a_large_rank_one_residual():
 def test_uncertain_first_frequency_closes_to_the_model_at_that_frequency():
     """With omega1 a parameter, closing its two Delta channels with delta gives the plain model whose first frequency is
     center + half_range * delta (docstring: exact, restoring term w1^2 eta1 + 2 xi w1 eta1')."""
-    from lib.lft import Parameter
+    from trusscodesign.lft import Parameter
 
     rigid, omega, damping, factors = _cantilever_data()
     p = Parameter("omega1", 3.0, 2.5, 3.5)

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from lib import frames
+from trusscodesign import frames
 
 
 def test_tau_transports_twists_and_wrenches_consistently():

@@ -1,11 +1,11 @@
-"""H-infinity norm (lib.hinf) against closed forms and SLICOT AB13DD (slycot, independent exact method)."""
+"""H-infinity norm (trusscodesign.hinf) against closed forms and SLICOT AB13DD (slycot, independent exact method)."""
 
 import time
 
 import numpy as np
 import pytest
 
-from lib.hinf import HinfResult, grid_peak, hinf_norm, peak_grid, sigma_max
+from trusscodesign.hinf import HinfResult, grid_peak, hinf_norm, peak_grid, sigma_max
 
 slycot = pytest.importorskip("slycot")
 
@@ -124,7 +124,7 @@ def test_lightly_damped_modal_against_ab13dd(seed, n_modes, with_d, mix):
 def test_crossings_found_on_ill_conditioned_realisation(delta):
     """Dense realisation over 0.1..1000 rad/s (||A|| ~ 1e6): near a tangency the computed crossing
     eigenvalues leave the imaginary axis by more than 1e-6 |lambda| (missed with that tolerance)."""
-    from lib.hinf import _crossings, _prepare
+    from trusscodesign.hinf import _crossings, _prepare
 
     sys_ = modal_system(401, 125, mix=True)
     exact = hinf_norm(*sys_)
@@ -305,13 +305,13 @@ def test_an_odd_crossing_count_does_not_certify(monkeypatch):
     certificate would claim ``||G|| <= (1 + 1e-7) 50.0025``."""
     from scipy.linalg import block_diag
 
-    import lib.hinf
+    import trusscodesign.hinf
 
     a1, b1, c1, _ = one_mode(1e-2, 1e3)
     a2, b2, c2, _ = band_pass(300.0, 0.0)
     sys_ = block_diag(a1, a2), block_diag(b1, b2), block_diag(1e6 * c1, c2), np.zeros((2, 2))
     assert abs(hinf_norm(*sys_).norm / 100.0 - 1) <= 1e-9  # the premise: the band-pass is the norm
-    monkeypatch.setattr(lib.hinf, "_crossings", lambda sys, gamma: np.array([1e12]))
+    monkeypatch.setattr(trusscodesign.hinf, "_crossings", lambda sys, gamma: np.array([1e12]))
     res = hinf_norm(*sys_)
     assert abs(res.norm * 2e-2 * np.sqrt(1 - 1e-4) - 1) <= 1e-9  # the start bound, left as it is
     assert not res.certified  # 100 > (1 + rtol) 50.0025: a certificate would be false

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from lib import codesign, modal, spacecraft, synthesis
-from lib.closedloop import LoopSettings
+from trusscodesign import codesign, modal, spacecraft, synthesis
+from trusscodesign.closedloop import LoopSettings
 
 
 @pytest.mark.parametrize("kwargs, match", [(dict(h=3.0), "cm or mm"), (dict(h=21.39), "cm or mm"), (dict(theta=90.0), "degrees")])

@@ -4,10 +4,10 @@ wrong result or an error deep inside numpy; the valid inputs next to them behave
 import numpy as np
 import pytest
 
-from lib import bodies, design, frames, ports, robustness, spacecraft, synthesis, titop, truss
-from lib.closedloop import LoopSettings, generalized_plant
-from lib.lft import LFT, Parameter
-from lib.synthesis import Scenario
+from trusscodesign import bodies, design, frames, ports, robustness, spacecraft, synthesis, titop, truss
+from trusscodesign.closedloop import LoopSettings, generalized_plant
+from trusscodesign.lft import LFT, Parameter
+from trusscodesign.synthesis import Scenario
 
 SEC = titop.Section.square(0.02)
 
@@ -104,7 +104,7 @@ def test_beam_builders_need_a_section():
     for build in (lambda: titop.clamped_free(2.0, 0.02), lambda: titop.beam(("A", [0, 0, 0]), ("B", [1, 0, 0]), 0.02),
                   lambda: titop.modal_data(2.0, 0.02), lambda: titop.analytic_frequencies(2.0, 0.02, "axial"),
                   lambda: titop.rigid_mass(2.0, 0.02)):
-        with pytest.raises(TypeError, match=r"section must be a lib.titop.Section.*Section.square\(h\)"):  # AttributeError
+        with pytest.raises(TypeError, match=r"section must be a trusscodesign.titop.Section.*Section.square\(h\)"):  # AttributeError
             build()
 
 

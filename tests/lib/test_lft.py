@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from lib import ports
-from lib.lft import LFT, Parameter
+from trusscodesign import ports
+from trusscodesign.lft import LFT, Parameter
 
 RNG = np.random.default_rng(42)
 P = Parameter.percent("m", 800.0, 20.0)

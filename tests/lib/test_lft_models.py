@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from lib import ports, reduction, spacecraft, titop, truss
-from lib.lft import Parameter
+from trusscodesign import ports, reduction, spacecraft, titop, truss
+from trusscodesign.lft import Parameter
 
 H = Parameter("h", 0.03, 0.015, 0.03, tunable=True)
 

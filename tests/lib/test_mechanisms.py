@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from lib import assembly, frame_fe, frames, mechanisms, reduction, titop
+from trusscodesign import assembly, frame_fe, frames, mechanisms, reduction, titop
 
 SEC0 = titop.Section.square(0.03, damping=0.0)  # undamped: poles give natural frequencies exactly
 

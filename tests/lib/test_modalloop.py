@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
 
-from lib import hinf, synthesis
-from lib.closedloop import GeneralizedPlant, LoopSettings, frequency_response
-from lib.modalloop import ModalLoop, _symmetrise, aberth_poles, sigma_max
-from lib.synthesis import Scenario, plant_at
+from trusscodesign import hinf, synthesis
+from trusscodesign.closedloop import GeneralizedPlant, LoopSettings, frequency_response
+from trusscodesign.modalloop import ModalLoop, _symmetrise, aberth_poles, sigma_max
+from trusscodesign.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
 ROOT = Path(__file__).parents[2]
@@ -238,7 +238,7 @@ def test_a_fallback_keeps_the_unmoved_modes_in_their_places(monkeypatch):
     plant = _synthetic_plant(rng, weak=2)
     ml = ModalLoop.of(plant)
     assert (~ml.coupled).sum() == 4
-    monkeypatch.setattr("lib.modalloop.aberth_poles", lambda mu, m, k, start: (start, 60, False))
+    monkeypatch.setattr("trusscodesign.modalloop.aberth_poles", lambda mu, m, k, start: (start, 60, False))
     k = 0.05 * rng.normal(size=(4, 8))
     lam = ml.poles(k)
     assert ml.fallbacks == 1
@@ -314,7 +314,7 @@ def test_symmetrise_pairs_each_pole_with_its_own_conjugate():
     """Two pairs 5e-9 apart whose imaginary parts differ by less than the rounding of their conjugates (the lower
     ones in the opposite order): each pole is averaged with its own conjugate, not its neighbour's (a sort by
     imaginary part crossed them and moved both poles by 2.5e-9)."""
-    from lib.modalloop import _symmetrise
+    from trusscodesign.modalloop import _symmetrise
 
     p1, p2 = -0.5 + 100.0j, -0.5 - 5e-7 + (100.0 + 1e-13) * 1j
     lam = np.array([p1, np.conj(p2), p2, np.conj(p1) - 2e-13j])

@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_limits
 
-from lib import synthesis
-from lib.closedloop import LoopSettings
-from lib.modalloop import ModalLoop
-from lib.modalpool import ModalPool, shared_pool
-from lib.synthesis import Scenario, plant_at
+from trusscodesign import synthesis
+from trusscodesign.closedloop import LoopSettings
+from trusscodesign.modalloop import ModalLoop
+from trusscodesign.modalpool import ModalPool, shared_pool
+from trusscodesign.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
 SCENARIOS = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)),
@@ -190,7 +190,7 @@ def test_workers_stop_when_the_main_process_is_killed(tmp_path):
     from pathlib import Path
 
     script = tmp_path / "killed.py"
-    script.write_text("import os, signal\nfrom lib.modalpool import ModalPool\npool = ModalPool(2)\n"
+    script.write_text("import os, signal\nfrom trusscodesign.modalpool import ModalPool\npool = ModalPool(2)\n"
                       "print(' '.join(str(p.pid) for p in pool._procs), flush=True)\nos.kill(os.getpid(), signal.SIGKILL)\n")
     root = Path(__file__).parents[2]
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120,
@@ -235,7 +235,7 @@ def test_a_pool_created_in_a_thread_outlives_the_thread(plants):
 def test_the_pickling_error_is_raised_and_not_a_worker_failure(pool, plants):
     """A request that cannot be pickled after another worker's request failed there: the pickling error is the one
     raised (the worker's failure chained to it), and the pool stays usable."""
-    from lib.modalpool import _WorkerError
+    from trusscodesign.modalpool import _WorkerError
 
     with pytest.raises(Exception, match="pickle") as caught:
         pool.map(synthesis._remote_peaks, [(plants[0], None), (plants[1], lambda: 0)], np.ones((3, 3)), {})

@@ -1,11 +1,11 @@
-"""Worst-case gain bounds (lib.mu) against direct evaluation and dense brute force over the delta box."""
+"""Worst-case gain bounds (trusscodesign.mu) against direct evaluation and dense brute force over the delta box."""
 
 import time
 
 import numpy as np
 import pytest
 
-from lib import mu
+from trusscodesign import mu
 
 
 def lft_ss(rng, sizes, n_e, n_p, n_modes=2, m11_peak=0.6):

@@ -1,10 +1,10 @@
-"""Worst-case gain bound certified over frequency intervals (lib.mu_interval) against sampling and brute force."""
+"""Worst-case gain bound certified over frequency intervals (trusscodesign.mu_interval) against sampling and brute force."""
 
 import numpy as np
 import pytest
 
-from lib import mu
-from lib.mu_interval import _centred_scalings, crossing_frequencies, lmi_value, wc_gain_upper_certified
+from trusscodesign import mu
+from trusscodesign.mu_interval import _centred_scalings, crossing_frequencies, lmi_value, wc_gain_upper_certified
 
 from test_mu import brute, freq_resp, lft_ss
 

@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
 
-from lib import plotting  # noqa: E402
+from trusscodesign import plotting  # noqa: E402
 
 
 def test_objective_grid_keeps_penalised_points_off_the_curve():
@@ -43,8 +43,8 @@ def test_pso_panels_highlights_the_best_particle_of_each_iteration():
 
 
 def test_pso_panels_reads_records_from_a_results_file(tmp_path):
-    """Records saved by lib.results and read back by load_results (a failed synthesis: J_c infinite, stored as a string)."""
-    from lib import results
+    """Records saved by trusscodesign.results and read back by load_results (a failed synthesis: J_c infinite, stored as a string)."""
+    from trusscodesign import results
     recs = _history()
     recs[2].update(J_c=float("inf"), f=10.3)
     results.save_results("pso", {"history": recs}, tmp_path)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from lib import frames, ports, titop
+from trusscodesign import frames, ports, titop
 
 SEC = titop.Section.square(0.03)
 OMEGA = np.logspace(0, 4, 40)

@@ -6,8 +6,8 @@ import json
 import numpy as np
 import pytest
 
-from lib import codesign, pso, synthesis
-from lib.closedloop import LoopSettings
+from trusscodesign import codesign, pso, synthesis
+from trusscodesign.closedloop import LoopSettings
 
 
 def quadratic(x, state):
@@ -583,7 +583,7 @@ def test_objective_at_the_jc_limit_is_not_penalised():
 
 def test_particle_with_jc_at_the_limit_is_ok_and_above_is_penalised(monkeypatch):
     """evaluate_particle with stand-in models and synthesis: J_c = 2 is "ok" with f = m/m0 + 1.1; J_c > 2 is penalised."""
-    from lib import design, spacecraft
+    from trusscodesign import design, spacecraft
 
     jc = {"v": 2.0}
     monkeypatch.setattr(design, "models_at", lambda h, params=None: design.DesignModels(h, None, None, None, np.eye(3), 0.0, 0.0))
@@ -623,7 +623,7 @@ def test_truss_mass_from_the_inverted_dc_gain_with_an_offset_cog():
     gain is exactly that inverse (with dynamics: D - C A^-1 B) gives back the truss mass of rho h^2 L."""
     from types import SimpleNamespace
 
-    from lib import spacecraft
+    from trusscodesign import spacecraft
 
     h = 0.02
     masses = spacecraft.component_masses(h)

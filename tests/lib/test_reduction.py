@@ -1,7 +1,7 @@
 """The modal reduction's fast path against its naive reference.
 
-``lib.reduction`` solves the block-diagonalising Sylvester equation with LAPACK ``dtrsyl`` on the Schur blocks it
-already has, and ``lib.design.models_at`` no longer splits the slow part of ``G_r_low`` again before each cut. Both
+``trusscodesign.reduction`` solves the block-diagonalising Sylvester equation with LAPACK ``dtrsyl`` on the Schur blocks it
+already has, and ``trusscodesign.design.models_at`` no longer splits the slow part of ``G_r_low`` again before each cut. Both
 are checked here against the straightforward computation (scipy's ``solve_sylvester``, ``modal_reduction`` of
 ``G_r_low``), on the frequency response of every input-output entry.
 """
@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from scipy import linalg
 
-from lib import design, ports, reduction
-from lib.cube import cube_cccc_ffff
-from lib.titop import Section
+from trusscodesign import design, ports, reduction
+from trusscodesign.cube import cube_cccc_ffff
+from trusscodesign.titop import Section
 
 
 def _rel_err(g: np.ndarray, ref: np.ndarray) -> float:

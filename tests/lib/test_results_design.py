@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from lib import design, results
+from trusscodesign import design, results
 
 
 def test_complex_non_finite_and_complex64_give_valid_json() -> None:

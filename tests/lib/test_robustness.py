@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from lib import design, robustness, synthesis
-from lib.closedloop import LoopSettings
-from lib.synthesis import Scenario
+from trusscodesign import design, robustness, synthesis
+from trusscodesign.closedloop import LoopSettings
+from trusscodesign.synthesis import Scenario
 
 ST = LoopSettings.from_parameters()
 
@@ -36,7 +36,7 @@ def test_physical_deltas(models):
 def test_sweep_same_bounds_in_order_on_dask_workers(models):
     """The angles run on two Dask workers come back in the order asked, with the bounds computed in this process:
     both bounds to the last bit (every SDP is solved from scratch, whatever the process solved before)."""
-    from lib import codesign
+    from trusscodesign import codesign
 
     thetas = np.deg2rad([100.0, 20.0])
     kw = dict(n_log=60, seed=3)
@@ -129,7 +129,7 @@ def test_sweep_interrupted_resumes_from_partial_file(tmp_path, monkeypatch):
 def test_upper_at_one_frequency_keeps_the_tighter_of_whole_box_and_branch_and_bound():
     """Unstructured data on which the whole-box D-G bound is 6 % above the brute-force maximum (41 x 41 grid): the
     bound at the frequency is the branch-and-bound one, within 1e-3 of the maximum and never below it."""
-    from lib import mu
+    from trusscodesign import mu
 
     rng = np.random.default_rng(1)
     sizes, n = (1, 2), 3
@@ -155,7 +155,7 @@ def _modes_plant(channel1, channel2, alpha=0.0, gain2=0.0):
     (``channel1``) or p~_2 (``channel2``), each seen by RPE_1 or RPE_2 as ``scale omega^2 q`` (a peak ``scale`` /
     (2 zeta sqrt(1 - zeta^2)) at omega sqrt(1 - 2 zeta^2)). Delta moves the stiffness of the first mode of channel 1 to
     ``omega^2 (1 + alpha delta)`` (damping coefficient 2 zeta omega unchanged), or scales RPE_2 by ``1 + gain2 delta``."""
-    from lib.closedloop import GeneralizedPlant
+    from trusscodesign.closedloop import GeneralizedPlant
 
     modes = [(m, 0) for m in channel1] + [(m, 1) for m in channel2]
     n = 2 * len(modes)
@@ -215,7 +215,7 @@ def test_second_lower_bound_pass_finds_the_ridge_at_the_upper_bounds_frequency(m
     upper bound at that log point (picked with focus 0.1) sees the ridge (delta within 1.3e-3 of -1). The second pass
     around it must find the ridge: the lower bound within 1e-3 of the worst case (the ridge drops 1e-3 over that
     distance), an achieved gain (the model at its delta and frequency), and the gap below 5 % (as the spacecraft's)."""
-    from lib.hinf import sigma_max
+    from trusscodesign.hinf import sigma_max
 
     g = np.geomspace(1.0, 100.0, 201)
     zeta, alpha = 1e-4, 0.6
@@ -274,7 +274,7 @@ def test_known_limitation_two_modes_brought_together_by_an_interior_delta(monkey
     2026-12-03; one case in 120 random two- and three-mode problems). The ridge pass (which follows the first mode from
     the corner delta = 1) does not reach it either: the peaks add only within about 0.005 of delta = 0.78, and on the way
     from the corner the gain first falls (3818 at 0.9, 3752 at 0.7), so a local search stays at the corner."""
-    from lib.hinf import hinf_norm
+    from trusscodesign.hinf import hinf_norm
 
     plant = _modes_plant([(7.4814231501324615, 0.00011353198378048266, 0.8028104869398454),
                           (7.0041958791399255, 0.00045652380990309643, 0.8307429627427234)], [], alpha=-0.15744413656668402)
@@ -316,7 +316,7 @@ def _damping_minimised_inside(w0=3.0, z0=1e-4, alpha=0.3, g=1.2):
     """One mode, one parameter as a twice-repeated block: stiffness w0^2 (1 + alpha delta), damping coefficient
     c0 (1 - g delta + g delta^2), lowest at delta = 0.5. Returns the plant (p~_1 -> RPE_1 = w0^2 q) and ``closed(delta)``,
     the state matrix with Delta closed."""
-    from lib.closedloop import GeneralizedPlant
+    from trusscodesign.closedloop import GeneralizedPlant
 
     c0 = 2 * z0 * w0
     a = np.array([[0.0, 1.0], [-w0 ** 2, -c0]])
@@ -354,9 +354,9 @@ def test_the_ridge_pass_finds_an_interior_delta_that_minimises_the_damping(monke
     (Hamiltonian norm) 6677.46, the closed form 6677.48 at delta = 0.484 (the damping is lowest at 0.5, the stiffness
     rises with delta), a resonance 7 % above the nominal one and 4 % below the corner's. Both bounds were 5841.9
     (-12.5 %, gap 0) before the third lower-bound pass, which follows the resonance as delta moves
-    (:func:`lib.robustness._ridge_lower`). Now the lower bound is within 1e-6 of the closed form, at its delta to 2e-3
+    (:func:`trusscodesign.robustness._ridge_lower`). Now the lower bound is within 1e-6 of the closed form, at its delta to 2e-3
     (the peak is flat there), and the upper bound is not below it."""
-    from lib.hinf import hinf_norm
+    from trusscodesign.hinf import hinf_norm
 
     plant, closed = _damping_minimised_inside()
     brute = max(hinf_norm(closed(x), plant.b[:, 2:3], plant.c[2:3], np.zeros((1, 1))).norm for x in np.linspace(-1, 1, 201))
@@ -392,7 +392,7 @@ def test_ridge_pass_returns_an_achieved_gain_never_below_its_start():
     """From the corner delta = 1 of that plant (a lower bound 5842), the ridge pass reaches the interior worst case
     (closed form, to 1e-6); what it returns is achieved (F_u at its delta and frequency), and from a start already at the
     worst case it returns the start unchanged or better."""
-    from lib.mu import LowerBound
+    from trusscodesign.mu import LowerBound
 
     resp, _ = _damping_response()
     k, cc = 9.0 * 1.3, 6e-4
@@ -445,7 +445,7 @@ def test_certified_upper_bound_closes_the_coalescence_case(monkeypatch):
     """The known limitation above, where both bounds of bounds_at_angle stop 12 % below the exact worst case: the upper
     bound certified over all frequencies (certify_at_angle, from the same grid) is above the brute force, as an upper
     bound must be, and within its slack and the D-G conservatism of it."""
-    from lib.hinf import hinf_norm
+    from trusscodesign.hinf import hinf_norm
 
     plant = _modes_plant([(7.4814231501324615, 0.00011353198378048266, 0.8028104869398454),
                           (7.0041958791399255, 0.00045652380990309643, 0.8307429627427234)], [], alpha=-0.15744413656668402)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from lib import bodies, frames, opensees_fe, ports, reduction, spacecraft, titop, truss
+from trusscodesign import bodies, frames, opensees_fe, ports, reduction, spacecraft, titop, truss
 
 H_VALUES = [0.015, 0.02139, 0.03]
 PARAMS = spacecraft.load_parameters()
@@ -154,7 +154,7 @@ def test_uncertain_model_equals_direct_build_at_draws(uncertain):
 
 
 def test_rotation_lft_is_exact_and_minimal():
-    from lib.lft import LFT, Parameter
+    from trusscodesign.lft import LFT, Parameter
 
     tau = Parameter("tau", 0.0, -1.0, 1.0)
     r6 = frames.twice_dcm_lft(tau, frames.rot_z(np.pi / 2))

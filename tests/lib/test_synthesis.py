@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 import slycot
 
-from lib import synthesis
-from lib.closedloop import LoopSettings
-from lib.synthesis import Scenario, plant_at
+from trusscodesign import synthesis
+from trusscodesign.closedloop import LoopSettings
+from trusscodesign.synthesis import Scenario, plant_at
 
 ST = LoopSettings.from_parameters()
 RNG = np.random.default_rng(11)
@@ -103,7 +103,7 @@ def test_parabolic_refinement_of_several_brackets():
 def test_parabolic_peaks_equal_the_zoomed_ones_on_the_spacecraft(model, inertia, fast):
     """On three scenario loops (dense and fast path): every peak ``peak_refine="parabolic"`` finds is the zoom's to
     1e-9 relative (measured: within 1.2e-10, never below it by more than 2e-14), at the same frequency to 1e-6."""
-    from lib.modalloop import ModalLoop
+    from trusscodesign.modalloop import ModalLoop
 
     for sc in (Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)), Scenario()):
         p = plant_at(model, sc, inertia, ST)
@@ -125,7 +125,7 @@ def test_plain_grid_misses_the_peak(plant):
     """Why the peak-aware grid: a 2000-point log grid underestimates the closed-loop RPE norm."""
     a, b, c, d = plant.closed_loop(GAIN)
     sl = plant.slices()
-    from lib.hinf import sigma_max
+    from trusscodesign.hinf import sigma_max
 
     s = sigma_max(a, b[:, sl["p"]], c[sl["rpe"]], d[sl["rpe"], sl["p"]], np.logspace(-2, 3.5, 2000)).max()
     exact = synthesis.exact_norms(plant, GAIN)["rpe"][0]
@@ -258,7 +258,7 @@ def test_lazy_cap_gives_the_same_decision(model, inertia, monkeypatch):
     """The worst-case search's lazy damping cap: same ``stable`` and peaks as the eager cap, at damping requirements
     below and above the closed loop's least damping, with a cap that binds (the real passive damping) or not (a
     large one); the passive poles are computed only when the uncapped requirement fails."""
-    from lib.closedloop import GeneralizedPlant
+    from trusscodesign.closedloop import GeneralizedPlant
 
     sc = Scenario(0.5, -1.0, 1.0, np.deg2rad(60.0))
     plant = plant_at(model, sc, inertia, ST)
@@ -283,7 +283,7 @@ def test_passive_damping_bound_by_inverse_iteration(model, inertia):
     """The cheap upper bound on a new scenario's passive damping (inverse iteration near the nominal plant's least damped
     passive pole): never below the dense value, and equal to it within the stated margin when it finds the same mode;
     no bound (inf) when the iteration cannot converge (a shift halfway between two poles)."""
-    from lib.closedloop import PASSIVE_BOUND_MARGIN
+    from trusscodesign.closedloop import PASSIVE_BOUND_MARGIN
 
     near = plant_at(model, Scenario(), inertia, ST).passive_pole()
     for sc in (Scenario(0.5, -1.0, 1.0, np.deg2rad(60.0)), Scenario(-1.0, 1.0, -1.0, np.deg2rad(150.0))):
@@ -302,7 +302,7 @@ def test_lazy_cap_with_the_passive_bound_gives_the_same_decision(model, inertia,
     as the eager cap at every requirement; the dense passive poles are computed only where the bound cannot decide:
     never with the nominal least damped passive pole as the shift (the same mode), at high requirements with the shift
     on a well damped mode (a loose bound)."""
-    from lib.closedloop import PASSIVE_BOUND_MARGIN, GeneralizedPlant
+    from trusscodesign.closedloop import PASSIVE_BOUND_MARGIN, GeneralizedPlant
 
     sc = Scenario(0.5, -1.0, 1.0, np.deg2rad(60.0))
     probe = plant_at(model, sc, inertia, ST)
@@ -352,7 +352,7 @@ def test_bad_variants(model, inertia):
 
 
 def test_truss_variants_refuse_bad_shifts():
-    from lib import design
+    from trusscodesign import design
 
     base = design.DesignModels(0.015, None, None, None, np.eye(3), 45.8, 0.0)
     for bad in (0.6, float("nan"), "0.01", 0.0):
@@ -397,7 +397,7 @@ def test_variants_are_built_at_every_scenario_and_searched(monkeypatch, model, i
 
 
 def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
-    from lib import design
+    from trusscodesign import design
 
     seen = {}
     monkeypatch.setattr(design, "plant_at", lambda m, sc, inertia, settings: ("plant", m))
@@ -421,7 +421,7 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
     """A failed attempt is started again from its final gain with the caller's starting scenario set, the counters add
     up, the message keeps the first failure; a success is not restarted, nor a failure to stabilise; restarts=0 (the
     default) returns the failure flagged."""
-    from lib import design
+    from trusscodesign import design
 
     calls = []
     outcomes = []
@@ -462,7 +462,7 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
 def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
     """Stand-in models and searches: shift 0 always checked, shifts leaving the design range skipped, a row per gain
     and shift, valid = no unstable box point, Z_c < gamma_u and (with spillover) a stable spillover loop."""
-    from lib import design
+    from trusscodesign import design
 
     built = []
 
@@ -773,7 +773,7 @@ def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
 def test_scenario_physical_values_give_theta_in_degrees():
     from types import SimpleNamespace
 
-    from lib.lft import Parameter
+    from trusscodesign.lft import Parameter
 
     params = {"M_SC": Parameter("M_SC", 100.0, 90.0, 110.0), "Iyy_SC": Parameter("Iyy_SC", 50.0, 40.0, 60.0),
               "omega1_SP": Parameter("omega1_SP", 3.0, 2.0, 4.0)}
@@ -839,7 +839,7 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
     with Z kept below gamma_u, and stops by its own tests (not the iteration limit). The final J and Z are those of
     the true norms, not grid values: at the frequency where the certified H-infinity norm (Hamiltonian method) of each
     closed loop peaks, sigma_max by a direct solve is not above the loop's optimised peak by more than the 1e-6 to which
-    :func:`lib.synthesis.loop_peaks` checks its top peak against a direct solve (a peak the optimiser missed would be;
+    :func:`trusscodesign.synthesis.loop_peaks` checks its top peak against a direct solve (a peak the optimiser missed would be;
     measured: 1.0e-7 with the ball), and the norm is the optimised value to the issue's 1e-4. The same with either trust region (from the
     same start, stabilised in the box), and with least-change restoration steps (some of them taken), whose feasibility
     phase lasts until Z < ``gamma_u (1 - margin / 2)`` (they aim at ``gamma_u (1 - margin)``).

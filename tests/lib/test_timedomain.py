@@ -1,12 +1,12 @@
-"""Time-domain worst case (lib.timedomain): the time stepping and the closed form against a 1-DOF oscillator solved by
+"""Time-domain worst case (trusscodesign.timedomain): the time stepping and the closed form against a 1-DOF oscillator solved by
 hand, the build-up to the H-infinity gain on a MIMO system, and the spacecraft's closed loop against its peaks."""
 
 import numpy as np
 import pytest
 
-from lib import design, timedomain
-from lib.closedloop import LoopSettings
-from lib.synthesis import Scenario, loop_peaks, plant_at
+from trusscodesign import design, timedomain
+from trusscodesign.closedloop import LoopSettings
+from trusscodesign.synthesis import Scenario, loop_peaks, plant_at
 
 WN, ZETA = 3.0, 0.02
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from lib import titop
+from trusscodesign import titop
 
 # Three different parameter sets: the paper's aluminium beam, a long steel beam
 # with a rectangular section (Iy != Iz, arbitrary J), a short titanium beam with
@@ -161,7 +161,7 @@ def test_bad_length_and_basis_raise():
 def test_h_lft_beam_equals_the_direct_beam_for_small_sections(torsion):
     """clamped_free_lft took every J below 1e-8 m^4 (h < 2.5 cm) for polar: with exact torsion at h = 2 cm the
     substituted LFT was 665 % off the direct model (an independent review); now 1e-10."""
-    from lib.lft import Parameter
+    from trusscodesign.lft import Parameter
 
     h_param = Parameter("h", 0.03, 0.015, 0.03, tunable=True)
     model = titop.clamped_free_lft(1.0, titop.Section.square(0.02, torsion=torsion), h_param)
@@ -202,7 +202,7 @@ def test_rectangular_sections_need_a_beam_frame_and_models_their_shapes():
 
 
 def test_connect_and_constrained_frequencies_check_their_nodes():
-    from lib import assembly, ports
+    from trusscodesign import assembly, ports
 
     sec = titop.Section.square(0.03)
     first = titop.beam(("A", [49.0, 0, 0]), ("B", [50.0, 0, 0]), sec)
@@ -214,7 +214,7 @@ def test_connect_and_constrained_frequencies_check_their_nodes():
 
 
 def test_degenerate_modes_are_flagged_and_the_fe_frame_is_one_per_member():
-    from lib import frame_fe, modal, opensees_fe
+    from trusscodesign import frame_fe, modal, opensees_fe
 
     sec = titop.Section.square(0.03)
     beam = titop.clamped_free(1.0, sec, 2)  # square section: the bending modes come in equal pairs

@@ -1,0 +1,329 @@
+"""One robust design at a section side h: models, open-loop worst case, synthesis with a spillover check.
+
+Paper: "Co-design optimization architecture", Steps 1-3 for one particle: the reduced uncertain open loop
+``F_u(G_r(h), Delta)`` (Step 1), the closed loop with the ACS designed on the rigid inertia at h (Step 2) and
+the robust structured synthesis of ``K_PMA`` (Step 3, :func:`trusscodesign.synthesis.synthesize`).
+
+One addition to the paper's recipe, measured in notebook 06: a gain tuned on ``G_r`` (modes below 500 rad/s)
+alone destabilises 33 modes of ``G_r_low`` between 504 and 17251 rad/s at 2.139 cm (spillover of the non-collocated entries
+of the 4x8 gain), and a gain kept merely stable on the nominal ``G_r_low`` leaves one of them with a damping
+ratio of 1e-10, which the uncertain parameters then destabilise. The nominal ``G_r_low`` closed loop is therefore
+a stability-only model of the synthesis (``spillover=True``) whose modes above the cut frequency of ``G_r`` must
+keep half the truss damping (5e-4; they have at least 7e-4 with the PMAs passive), and the design is then
+analysed on ``G_r_low`` over the whole box (notebook 08).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import reduction, results, spacecraft
+from .closedloop import LoopSettings
+from .lft import LFT
+from .checks import check_option
+from .synthesis import NOT_STABILISED, Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
+
+__all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
+           "truss_variants"]
+
+
+@dataclass
+class DesignModels:
+    """The models of one design point.
+
+    Attributes
+    ----------
+    h : float
+        Section side [m].
+    g_r, g_r_low : trusscodesign.lft.LFT
+        ``F_u(G_r(h), Delta)`` (modes up to ``omega_max``) and ``F_u(G_r_low(h), Delta)`` (all flexible modes).
+    g_check : trusscodesign.lft.LFT
+        ``G_r_low`` reduced at ``omega_spill`` (1e4 rad/s by default, 20 x ``omega_max``): the spillover model of the
+        synthesis (its eigen-decomposition per iteration costs half that of ``G_r_low``; ``G_r_low`` itself is
+        analysed afterwards, notebook 08).
+    inertia : ndarray (3, 3)
+        Rigid inertia of the spacecraft at P1 at nominal parameters [kg m^2] (ACS design).
+    truss_mass : float
+        T-truss mass [kg]: ``rho h^2`` times the total beam length.
+    build_time_s : float
+        Time to build and reduce the models [s] (of which ``assembly_time_s`` to assemble the uncertain model).
+    omega_max : float
+        Cut frequency of ``G_r`` [rad/s].
+    """
+
+    h: float
+    g_r: LFT
+    g_r_low: LFT
+    g_check: LFT
+    inertia: NDArray[np.float64]
+    truss_mass: float
+    build_time_s: float
+    omega_max: float = 500.0
+    assembly_time_s: float = 0.0
+
+
+def in_design_range(h: float, params: dict | None = None) -> bool:
+    """Whether the section side ``h`` [m] lies in the design range of the parameters (paper: [0.015, 0.03] m), to
+    1e-12 m."""
+    low_h, high_h = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    return bool(low_h - 1e-12 <= h <= high_h + 1e-12)
+
+
+def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, omega_min: float = 0.01,
+              omega_spill: float = 1e4) -> DesignModels:
+    """Build ``G_r`` and ``G_r_low`` at section side h [m] (one assembly, one slow-pole split).
+
+    Raises
+    ------
+    ValueError
+        For h outside the design range of the parameters (paper: [0.015, 0.03] m).
+    """
+    t0 = time.perf_counter()
+    p = params or spacecraft.load_parameters()
+    low_h, high_h = p["truss"]["h_range"]
+    if not (isinstance(h, (int, float, np.floating)) and in_design_range(h, p)):
+        raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
+    if not omega_min < omega_max < omega_spill:
+        raise ValueError(f"the frequencies must satisfy omega_min < omega_max < omega_spill [rad/s], got {omega_min!r}, "
+                         f"{omega_max!r}, {omega_spill!r}")
+    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).uncertain().grouped()
+    t_build = time.perf_counter() - t0
+    low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min)
+    g_low = LFT(*low.reduced, lft.blocks, lft.params)
+    # G_r_low is free of slow poles: residualise it at omega_spill and at omega_max, without splitting off (and
+    # checking) its slow part again. Residualising the spillover model at omega_max instead would save a Schur form
+    # but changes small entries of G_r by up to 1e-7 of their size (measured at 1.5 cm): kept as the reference path.
+    spill, _ = reduction.residualize_above(*low.reduced, omega_spill)
+    g_check = LFT(*spill, lft.blocks, lft.params)
+    red, _ = reduction.residualize_above(*low.reduced, omega_max)
+    g_r = LFT(*red, lft.blocks, lft.params)
+    return DesignModels(float(h), g_r, g_low, g_check, spacecraft.inertia_at_p1(g_r), spacecraft.truss_mass(float(h), p),
+                        time.perf_counter() - t0, float(omega_max), t_build)
+
+
+def open_loop_worst_case(models: DesignModels, settings: LoopSettings | None = None, **kwargs) -> WorstCase:
+    """Worst case over the box with ``K_PMA = 0`` (the PMAs passive): the reference for the robust J_c."""
+    return worst_case(models.g_r, np.zeros((4, 8)), models.inertia, settings or LoopSettings.from_parameters(), **kwargs)
+
+
+def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict | None = None) -> list[DesignModels]:
+    """The models of the same spacecraft with its truss section side moved by the relative ``shifts`` (beyond the paper).
+
+    A proxy for an error of the truss model: at ``h (1 + shift)`` every bending frequency of the members moves by
+    ``1 + shift`` (bending stiffness ~ h^4, mass ~ h^2; axial and torsional frequencies do not depend on h), as in the
+    truss-shift study of notebook 08. Each variant carries its own rigid inertia (its ACS is re-tuned, as for any design
+    at that h).
+
+    Parameters
+    ----------
+    models : DesignModels
+        The nominal design point (its ``h`` and ``omega_max`` are used; the spillover cut is the default of
+        :func:`models_at`).
+    shifts : sequence of float
+        Relative changes of the section side, nonzero, in (-0.5, 0.5).
+    params : dict, optional
+        Spacecraft parameters (default :func:`trusscodesign.spacecraft.load_parameters`); pass the ones ``models`` was built with.
+
+    Returns
+    -------
+    list of DesignModels
+        One per shift, in the order given.
+
+    Raises
+    ------
+    ValueError
+        If a shift is zero (the nominal model itself), not a finite number in (-0.5, 0.5), or moves h out of the
+        design range [m].
+    """
+    p = params or spacecraft.load_parameters()
+    low_h, high_h = p["truss"]["h_range"]
+    out = []
+    for shift in shifts:
+        if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and 0 < abs(shift) < 0.5):
+            raise ValueError(f"each truss shift must be a nonzero relative change in (-0.5, 0.5), got {shift!r}")
+        h_s = models.h * (1.0 + float(shift))
+        if not in_design_range(h_s, p):
+            raise ValueError(f"the truss shift {shift:+g} moves h = {models.h} m to {h_s:.6g} m, outside the design range "
+                             f"[{low_h}, {high_h}] m: use shifts that keep h in the range")
+        out.append(models_at(h_s, p, models.omega_max))
+    return out
+
+
+def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence[float], settings: LoopSettings | None = None,
+                      spillover: bool = False, params: dict | None = None,
+                      progress: Callable[[Iterable], Iterable] = iter) -> tuple[list[dict], list[float]]:
+    """Worst case of designs at ``h`` [m] on the spacecraft with its truss section side moved by each relative shift.
+
+    The proxy of :func:`truss_variants`: at ``h (1 + shift)`` the spacecraft is rebuilt (its ACS re-tuned on its rigid
+    inertia) and the gains are kept; the worst case over the uncertainty box is searched on ``G_r``
+    (:func:`trusscodesign.synthesis.worst_case`). Shift 0 (the designs on their own truss) is always included.
+
+    Parameters
+    ----------
+    h : float
+        Section side of the designs [m].
+    gains : mapping of str to array_like (4, 8)
+        The PMA gains checked, by name.
+    shifts : sequence of float
+        Relative changes of the section side.
+    settings : LoopSettings, optional
+    spillover : bool
+        Also require the nominal spillover loop (``G_r_low`` up to 1e4 rad/s) of the shifted spacecraft to be stable.
+    params : dict, optional
+        Spacecraft parameters (default :func:`trusscodesign.spacecraft.load_parameters`).
+    progress : callable
+        Wraps the iterable of shifts (e.g. a tqdm progress bar).
+
+    Returns
+    -------
+    rows : list of dict
+        One per checked shift and gain: ``design``, ``shift_pct`` [%], ``h_cm`` [cm], ``J_c``, ``omega_J_rad_s``, ``Z_c``,
+        ``unstable_box_points``, ``evaluations``, ``spillover_stable`` (with ``spillover``) and ``valid`` (no unstable
+        box point, ``Z_c < gamma_u`` and, with ``spillover``, a stable spillover loop).
+    skipped : list of float
+        The shifts that move h out of the design range (not checked).
+    """
+    settings = settings or LoopSettings.from_parameters()
+    p = params or spacecraft.load_parameters()
+    low_h, high_h = p["truss"]["h_range"]
+    if not (isinstance(h, (int, float, np.floating)) and not isinstance(h, bool) and in_design_range(h, p)):
+        raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
+    shifts = list(shifts)
+    for shift in shifts:
+        if not (isinstance(shift, (int, float, np.integer, np.floating)) and not isinstance(shift, bool)
+                and np.isfinite(shift) and abs(shift) < 1):
+            raise ValueError(f"each truss shift must be a finite relative change in (-1, 1), e.g. 0.01 for 1 %, got {shift!r}: "
+                             "in percent? (divide by 100)")
+    checked: dict[str, NDArray] = {name: np.asarray(gain, dtype=float) for name, gain in gains.items()}
+    for name, k in checked.items():
+        if k.shape != (4, 8) or not np.all(np.isfinite(k)):
+            raise ValueError(f"gains[{name!r}] must be a finite 4x8 matrix, got shape {k.shape}")
+    rows: list[dict] = []
+    skipped: list[float] = []
+    for rel in progress(sorted({0.0, *(float(s) for s in shifts)})):
+        h_s = h * (1 + rel)
+        if not in_design_range(h_s, p):
+            skipped.append(rel)
+            continue
+        m_s = models_at(h_s, p)
+        for name, gain in checked.items():
+            wc = worst_case(m_s.g_r, gain, m_s.inertia, settings)
+            row = {"design": name, "shift_pct": 100 * rel, "h_cm": 100 * h_s, "J_c": wc.value["rpe"], "omega_J_rad_s": wc.omega["rpe"],
+                   "Z_c": wc.value["effort"], "unstable_box_points": len(wc.unstable), "evaluations": wc.evaluations}
+            valid = not wc.unstable and wc.value["effort"] < settings.gamma_u
+            if spillover:
+                loop = plant_at(m_s.g_check, Scenario(), m_s.inertia, settings)
+                row["spillover_stable"] = bool(loop.closed_loop_poles(gain).real.max() < 0)
+                valid = valid and row["spillover_stable"]
+            rows.append({**row, "valid": bool(valid)})
+    return rows, skipped
+
+
+def robust_design(models: DesignModels, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
+                  spillover: bool = True, variants: Sequence[DesignModels] = (), restarts: int = 0,
+                  **kwargs) -> SynthesisResult:
+    """Robust structured synthesis of ``K_PMA`` at the design point (:func:`trusscodesign.synthesis.synthesize` on ``G_r``).
+
+    Parameters
+    ----------
+    models : DesignModels
+    settings : LoopSettings, optional
+    gain0 : array_like (4, 8), optional
+        Starting gain (default: all -1, as the paper; or the gain of a neighbouring design).
+    spillover : bool
+        Add the nominal closed loop on ``models.g_check`` (``G_r_low`` up to 1e4 rad/s) as a stability-only model
+        (see the module docstring), whose modes above the cut frequency of ``G_r`` must keep a damping ratio of
+        ``min_damping`` (default 5e-4).
+    variants : sequence of DesignModels
+        Further models the gain must serve as well (e.g. :func:`truss_variants`): their ``G_r`` enter the synthesis as
+        variants of the scenario set (see :func:`trusscodesign.synthesis.synthesize`) and, with ``spillover``, their nominal
+        spillover loops as stability-only models. Default none: the paper's synthesis.
+    restarts : int
+        How many times a failed synthesis is started again from its final gain, with the starting scenario set (default
+        0: a failure is returned, flagged, as the co-design's stored runs had it). Not after a failure to stabilise
+        from the starting gain (the gain has not moved); a failure to stabilise the scenarios a later round added is
+        restarted (from the last round's gain, with the starting scenario set).
+        Measured (``benchmarks/robust_synthesis.py``, Intel machine):
+        the truss-tolerant fast-path design at 2.1 cm stopped after 6 rounds with Z_c 1.234 (each worst-case search
+        found a worse effort scenario than the set), and one restart from its gain converged (Z_c 0.982; 470 s for both attempts).
+        The result is valid on its own checks (the last attempt's scenario set, search and final evaluation).
+    **kwargs
+        Passed to :func:`trusscodesign.synthesis.synthesize`.
+    """
+    check_option("restarts", restarts, 0, integer=True)  # TypeError for a non-integer, ValueError below 0
+    settings = settings or LoopSettings.from_parameters()
+    checks = [plant_at(m.g_check, Scenario(), m.inertia, settings) for m in (models, *variants)] if spillover else []
+    kwargs.setdefault("omega_check", models.omega_max)
+
+    def run(start: ArrayLike | None) -> SynthesisResult:
+        return synthesize(models.g_r, models.inertia, settings, gain0=start, stability_models=checks,
+                          variants=[(m.g_r, m.inertia) for m in variants], **kwargs)
+
+    res, first = run(gain0), ""
+    for attempt in range(1, restarts + 1):
+        if res.success or res.message == NOT_STABILISED:  # later rounds' failures to stabilise are restarted
+            break
+        first = first or res.message
+        again = run(res.gain)
+        res = replace(again, iterations=res.iterations + again.iterations, time_s=res.time_s + again.time_s,
+                      evaluations=res.evaluations + again.evaluations, history=res.history + again.history,
+                      fallbacks=res.fallbacks + again.fallbacks, searches=res.searches + again.searches, restarts=attempt,
+                      message=f"{again.message} (after {attempt} restart(s) from the final gain of a failed attempt; first: {first})")
+    return res
+
+
+def stored_design(source: str | int = "auto", results_dir: str = "data/results", h_fallback: float = 0.02139) -> tuple[str, float, NDArray]:
+    """A stored design: ``(source, h [m], gain (4, 8))``.
+
+    ``source``: ``"07"`` (notebook 07's co-design optimum), ``"06"`` (notebook 06's design at ``h_fallback`` [m]) or
+    ``"auto"`` (07's if stored, else 06's). 6 and 7 are accepted too (papermill's ``-p`` turns ``"06"`` into 6).
+
+    Raises
+    ------
+    ValueError
+        For another ``source``, or if notebook 06 stored no design at ``h_fallback``.
+    FileNotFoundError
+        If the results file of the notebook asked for is missing.
+    """
+    name = str(source).strip().lower()
+    name = {"6": "06", "7": "07"}.get(name, name)
+    if name not in ("auto", "06", "07"):
+        raise ValueError(f"design_source must be 'auto', '06' or '07', got {source!r}")
+    if name in ("auto", "07"):
+        try:
+            best = results.load_results("07_pso_codesign", results_dir)["results"]["optimum"]
+        except (FileNotFoundError, KeyError):
+            if name == "07":
+                raise
+        else:
+            if isinstance(best, dict) and best.get("status", "ok") != "ok":  # files before 2026-12-03 hold no status
+                raise ValueError(f"notebook 07's optimum is not a valid design ({best['status']}): rerun notebook 07")
+            return "07", *_checked_design(best.get("h") if isinstance(best, dict) else None,
+                                          best.get("gain") if isinstance(best, dict) else None, "notebook 07's optimum")
+    if not (isinstance(h_fallback, (int, float, np.floating)) and not isinstance(h_fallback, bool) and np.isfinite(h_fallback)):
+        raise ValueError(f"h_fallback must be a finite section side [m], got {h_fallback!r}")
+    stored = results.load_results("06_robust_synthesis", results_dir)["results"]["designs"]
+    key = f"{100 * h_fallback:.3f}"
+    if key not in stored or abs(float(key) - 100 * h_fallback) > 1e-9:  # the keys hold h to 1e-5 cm: another h is not it
+        raise ValueError(f"notebook 06 stored no design at h = {h_fallback} m (it has {sorted(stored)} cm): rerun it with this h")
+    if stored[key].get("success") is False:
+        raise ValueError(f"notebook 06's design at {key} cm failed its synthesis ({stored[key].get('message')}): not a design to analyse")
+    return "06", *_checked_design(float(h_fallback), stored[key].get("gain"), f"notebook 06's design at {key} cm")
+
+
+def _checked_design(h: object, gain: object, what: str) -> tuple[float, NDArray]:
+    """``(h, gain)`` of a stored design, or a ValueError naming it unless h is in the design range and the gain finite 4x8."""
+    try:
+        k = np.array(gain, dtype=float) if isinstance(gain, (list, np.ndarray)) else np.full(0, np.nan)
+    except ValueError:  # ragged
+        k = np.full(0, np.nan)
+    if not (isinstance(h, (int, float)) and not isinstance(h, bool) and in_design_range(h)) or k.shape != (4, 8) \
+            or not np.all(np.isfinite(k)):
+        raise ValueError(f"{what} is not a stored design (h = {h!r} m in the design range, a finite 4x8 gain): got h = {h!r}, "
+                         f"gain of shape {k.shape}; rerun the notebook")
+    return float(h), k

@@ -1,0 +1,123 @@
+"""Results files: one JSON per notebook, so that runs can be compared by a program."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import platform
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from .paths import resolve
+
+__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_keyed", "normalise_key", "save_results", "load_results"]
+
+
+def to_jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays (and nested containers, dataclass instances) to plain JSON types.
+
+    Raises
+    ------
+    ValueError
+        If two keys of a dict have the same ``str`` (e.g. ``1`` and ``"1"``): one entry would be lost.
+    """
+    if isinstance(value, dict):
+        out = {str(k): to_jsonable(v) for k, v in value.items()}
+        if len(out) != len(value):
+            raise ValueError(f"dict keys {list(value)!r} collide as JSON strings: one entry would be lost")
+        return out
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return to_jsonable({f.name: getattr(value, f.name) for f in dataclasses.fields(value)})
+    if isinstance(value, (list, tuple)):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return to_jsonable(value.tolist())
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        return float(value) if np.isfinite(value) else str(value)
+    if isinstance(value, (complex, np.complexfloating)):
+        return {"re": to_jsonable(float(value.real)), "im": to_jsonable(float(value.imag))}
+    return value
+
+
+_NON_FINITE = {"inf": np.inf, "-inf": -np.inf, "nan": np.nan}  # how :func:`to_jsonable` writes non-finite floats
+
+
+def from_jsonable(value: Any) -> Any:
+    """Undo :func:`to_jsonable` for non-finite floats (the strings ``"inf"``, ``"-inf"``, ``"nan"``, in nested
+    dicts and lists); everything else is returned as read."""
+    if isinstance(value, dict):
+        return {k: from_jsonable(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [from_jsonable(v) for v in value]
+    return _NON_FINITE.get(value, value) if isinstance(value, str) else value
+
+
+def write_json(path: str | Path, payload: Any, indent: int | None = None) -> Path:
+    """Write ``to_jsonable(payload)`` to ``path`` atomically: a crash while writing leaves the previous file intact."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    text = json.dumps(to_jsonable(payload), indent=indent, allow_nan=False)
+    tmp.write_text(text + "\n" if indent is not None else text)
+    os.replace(tmp, path)
+    return path
+
+
+def read_keyed(path: str | Path | None, key: Any) -> tuple[dict | None, Any]:
+    """A file written by :func:`write_json` as ``{"key": key, ...}`` (None if absent or written with another key), and
+    the key as it reads back from a file (what to write with new results).
+
+    The key holds what the stored results depend on (settings, gains, versions): results computed with another key are
+    never reused. Objects JSON cannot hold are keyed by their ``str`` (give arrays as lists)."""
+    key = normalise_key(key)
+    if path is not None and Path(path).exists():
+        raw = json.loads(Path(path).read_text())
+        # compared as written (non-finite floats as strings), so that NaN matches NaN
+        if isinstance(raw, dict) and raw.get("key") == key:
+            return from_jsonable(raw), key
+    return None, key
+
+
+def normalise_key(key: Any) -> Any:
+    """A key of :func:`read_keyed` as :func:`write_json` writes it (arrays and numpy scalars exactly, non-finite floats
+    as strings; other objects JSON cannot hold by their ``str``)."""
+    return json.loads(json.dumps(to_jsonable(key), default=str))
+
+
+def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "data/results",
+                 parameters: dict[str, Any] | None = None) -> Path:
+    """Write ``results`` (and the run's ``parameters``) to ``<results_dir>/<name>.json``.
+
+    The file also records the library version and the version of the synthesis optimiser
+    (:data:`trusscodesign.synthesis.ALGORITHM`), on which every robust design depends.
+
+    Returns the path written.
+    """
+    from .synthesis import ALGORITHM
+
+    folder = resolve(results_dir)
+    payload = {
+        "notebook": name,
+        "library_version": __version__,
+        "synthesis_algorithm": ALGORITHM,
+        "python": platform.python_version(),
+        "parameters": to_jsonable(parameters or {}),
+        "results": to_jsonable(results),
+    }
+    return write_json(folder / f"{name}.json", payload, indent=2)  # atomic: an interrupted save keeps the previous file
+
+
+def load_results(name: str, results_dir: str | Path = "data/results") -> dict[str, Any]:
+    """Read a results file written by :func:`save_results` (non-finite floats restored, see :func:`from_jsonable`)."""
+    path = resolve(results_dir, create=False) / f"{name}.json"
+    if not path.exists():
+        raise FileNotFoundError(f"no results file {path}: run notebook {name} first")
+    return from_jsonable(json.loads(path.read_text()))

@@ -1,0 +1,371 @@
+"""The whole spacecraft: hub, T-truss, two solar panels on SADMs, antenna, four PMAs.
+
+Paper: section "System Modeling / Full order LPV model" and its open-loop figure. The
+open-loop model ``G(s)`` (order 1324 with order-20 beams) has
+
+* 12 inputs: ``p_SP1, p_SP2`` (SADM disturbance torques [N m]), ``W_P1`` (6, wrench on the
+  hub at its CoG P1: force [N], moment [N m]), ``u_PMA1..4`` (PMA forces [N]);
+* 20 outputs: ``LOS`` elevation/azimuth angular accelerations (2, [rad/s^2]: the angular
+  acceleration of the antenna node N20 about x and y), ``x_PMA1..4`` (proof-mass strokes [m]),
+  ``a_P1`` (6: [m/s^2], [rad/s^2]), and the linear and angular accelerations of N17 and N20
+  along and around x and y (8).
+
+Parameters are plain numbers (h, theta and the uncertain hub mass, hub Iyy and first panel
+frequency) or, with ``open_loop(..., uncertain=True)`` / ``tunable=True``, LFT parameters (``trusscodesign.lft``).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import control as ct
+import numpy as np
+
+from . import bodies, frames, paths
+from .checks import check_panel_angles
+from .lft import LFT, Parameter
+from .ports import MultiPortModel, connect
+from .reduction import modal_reduction, static_gain
+from .titop import Section
+from .truss import t_truss, truss_members, truss_nodes
+
+__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+           "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset"]
+
+INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
+OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+           + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
+
+
+@lru_cache(maxsize=1)
+def load_parameters() -> dict:
+    """The spacecraft parameters of ``lib/trusscodesign/data/spacecraft/parameters.json``."""
+    return json.loads((paths.PACKAGE_DATA / "spacecraft" / "parameters.json").read_text())
+
+
+def _finite(value: float, name: str, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    if not np.isfinite(value) or (positive and value <= 0):
+        raise ValueError(f"{name} must be a finite{' positive' if positive else ''} number, got {value!r}")
+    return float(value)
+
+
+def _section_side(h: float, params: dict) -> float:
+    """``h`` [m] checked: finite, positive and at most a tenth of the cube side (Euler-Bernoulli members need a slenderness
+    of 10 or more), so that a side given in cm or mm is refused instead of building a truss of metre-thick beams."""
+    h = _finite(h, "h", positive=True)
+    tr = params["truss"]
+    limit = tr["cube_side"] / 10.0
+    if h > limit:
+        raise ValueError(f"h must be a section side in metres in (0, {limit:g}] (a tenth of the cube side: Euler-Bernoulli "
+                         f"members; design range {tr['h_range']} m), got {h!r}: a value in cm or mm?")
+    return h
+
+
+def _panel_angle(theta: float) -> float:
+    """``theta`` [rad] checked: finite and in [-pi, pi] (as :func:`scenario`), so that an angle in degrees is refused."""
+    theta = _finite(theta, "theta")
+    check_panel_angles("theta", theta)
+    return theta
+
+
+def truss_mass(h: float, params: dict | None = None) -> float:
+    """T-truss mass ``rho h^2 * (total beam length)`` [kg] (183.11 kg at h = 3 cm)."""
+    p = params or load_parameters()
+    h = _section_side(h, p)
+    nodes = truss_nodes(p["truss"]["cube_side"])
+    length = sum(np.linalg.norm(nodes[a] - nodes[b]) for a, b in truss_members(p["truss"]["cube_side"]))
+    return p["truss"]["density"] * h**2 * length
+
+
+def component_masses(h: float, hub_mass: float | None = None, params: dict | None = None) -> dict[str, float]:
+    """Mass of each component [kg]: hub, truss, panels, antenna, PMAs (casing + proof mass)."""
+    p = params or load_parameters()
+    pm = p["pma"]
+    if hub_mass is not None:
+        _finite(hub_mass, "hub_mass", positive=True)  # as open_loop (the value itself is returned, unconverted)
+    return {
+        "hub": p["hub"]["mass"] if hub_mass is None else hub_mass,
+        "truss": truss_mass(h, p),
+        "solar_panels": 2 * p["solar_panel"]["mass"],
+        "antenna": p["antenna"]["mass"],
+        "pmas": 4 * (pm["casing_mass"] + pm["proof_mass"]),
+    }
+
+
+@dataclass
+class OpenLoop:
+    """The open-loop spacecraft model and its parts.
+
+    Attributes
+    ----------
+    G : control.StateSpace
+        12-input, 20-output model with named signals (``INPUTS``, ``OUTPUTS``).
+    model : MultiPortModel
+        The assembled multi-port model (all ports), spacecraft frame (origin P1).
+    blocks : dict
+        The blocks: hub, truss, panels, antenna, PMA block.
+    parameters : dict
+        The values used (h, theta, hub mass and Iyy, first panel frequency, SADM k, f); None for those that are LFT
+        parameters of ``lft`` (h if tunable; theta, hub mass, Iyy and panel frequency if uncertain).
+    lft : trusscodesign.lft.LFT or None
+        For ``open_loop(..., uncertain=True)``: the uncertain model ``F_u(G, Delta)``
+        (12 inputs, 20 outputs); ``G`` then holds its certain part, delta channels first.
+    """
+
+    G: ct.StateSpace
+    model: MultiPortModel
+    blocks: dict[str, MultiPortModel] = field(repr=False)
+    parameters: dict[str, float | None]
+    lft: LFT | None = None
+
+    def uncertain(self) -> LFT:
+        """The uncertain model ``F_u(G, Delta)`` (``lft``); a ValueError if the model was built without uncertainty."""
+        if self.lft is None:
+            raise ValueError("this open loop has no uncertain model: build it with open_loop(..., uncertain=True)")
+        return self.lft
+
+    def rigid_mass_at_p1(self) -> np.ndarray:
+        """Rigid mass matrix of the whole spacecraft at P1 (6x6): the inverse of the DC gain ``W_P1 -> a_P1``."""
+        model = self.model.substitute({k: p.nominal for k, p in self.model.params.items()}) if self.model.params else self.model
+        dc = static_gain(model)
+        i = model.channels("P1")
+        return np.linalg.inv(dc[np.ix_(i, i)])
+
+    def mass(self) -> float:
+        """Spacecraft mass [kg] from the DC gain ``W_P1 -> a_P1``, as the paper does.
+
+        The 6x6 DC gain is inverted first: the spacecraft's CoG is not at P1, so the
+        translational entries of the gain alone are not 1/m.
+        """
+        return float(self.rigid_mass_at_p1()[0, 0])
+
+
+def uncertain_parameters(params: dict | None = None) -> dict[str, Parameter]:
+    """The paper's uncertain parameters: hub mass and Iyy (+-20 %), first panel frequency (+-20 %), tau = tan(theta/4)."""
+
+    p = params or load_parameters()
+    hub, sp = p["hub"], p["solar_panel"]
+    return {
+        "M_SC": Parameter.percent("M_SC", hub["mass"], 100 * hub["mass_uncertainty"]),
+        "Iyy_SC": Parameter.percent("Iyy_SC", hub["inertia"][1][1], 100 * hub["iyy_uncertainty"]),
+        "omega1_SP": Parameter.percent("omega1_SP", sp["omega"][0], 100 * sp["omega1_uncertainty"]),
+        "tau": Parameter("tau", 0.0, -1.0, 1.0),
+    }
+
+
+def tunable_h(params: dict | None = None) -> Parameter:
+    """The tunable section side h [m] over the design range (nominal: the upper bound, the paper's baseline)."""
+
+    tr = (params or load_parameters())["truss"]
+    low, high = tr["h_range"]
+    return Parameter("h", tr["h_nominal"], low, high, tunable=True)
+
+
+def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None,
+              panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None, uncertain: bool = False,
+              tunable: bool = False) -> OpenLoop:
+    """Build the open-loop spacecraft model ``G(s)``.
+
+    Parameters
+    ----------
+    h : float
+        Side of the truss beams' square section [m] (the paper's range 0.015-0.03).
+    theta : float
+        Solar panel angle [rad] (both panels), about the spacecraft x axis.
+    hub_mass, hub_iyy, panel_omega1 : float, optional
+        Hub mass [kg], hub inertia Iyy [kg m^2], first panel frequency [rad/s]
+        (default: the nominal values).
+    n_modes : int
+        Beam basis enrichment (1: order-20 beams, G of order 1324).
+    params : dict, optional
+        Parameters (default: ``lib/trusscodesign/data/spacecraft/parameters.json``).
+    uncertain : bool
+        If True, the hub mass and Iyy, the first panel frequency and the panel angle
+        (through tau = tan(theta/4)) are the uncertain parameters of
+        :func:`uncertain_parameters` (``hub_mass``, ``hub_iyy``, ``panel_omega1`` and
+        ``theta`` are then ignored): ``G`` is the certain part of ``F_u(G, Delta)``
+        with the delta channels first, and :attr:`OpenLoop.lft` the uncertain model.
+    tunable : bool
+        If True, the section side h is an LFT parameter too (:func:`tunable_h`, ``h`` is
+        then ignored): the beams work on scaled signals converted at the truss ports
+        (:func:`trusscodesign.titop.clamped_free_lft`). Implies nothing about ``uncertain``.
+
+    Raises
+    ------
+    ValueError
+        For non-positive h, masses, inertias or frequencies, h above a tenth of the cube side (e.g. given in cm), or theta
+        outside [-pi, pi] (e.g. given in degrees).
+    """
+    p = params or load_parameters()
+    h = _section_side(h, p)
+    theta = _panel_angle(theta)
+    hub = p["hub"]
+    m_hub = _finite(hub["mass"] if hub_mass is None else hub_mass, "hub_mass", positive=True)
+    inertia = np.array(hub["inertia"], dtype=float)
+    inertia[1, 1] = _finite(inertia[1, 1] if hub_iyy is None else hub_iyy, "hub_iyy", positive=True)
+    sp = p["solar_panel"]
+    omega = np.array(sp["omega"], dtype=float)
+    omega[0] = _finite(omega[0] if panel_omega1 is None else panel_omega1, "panel_omega1", positive=True)
+    ch = p["choices"]
+    tr = p["truss"]
+    unc = uncertain_parameters(p) if uncertain else {}
+
+    # Hub: the truss base points carry the truss node names.
+    points: dict[str, list[float]] = dict(hub["points"])
+    rename = {v: k for k, v in tr["base_points"].items()}
+    hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {rename.get(k, k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
+
+    section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
+    origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
+    truss_model = t_truss(section, tr["cube_side"], n_modes, h_param=tunable_h(p) if tunable else None).translate(origin)
+
+    panels = {}
+    for label in ("SP1", "SP2"):
+        turn = np.deg2rad(ch.get("panel_turn_z_deg", {"SP1": 90.0, "SP2": -90.0})[label])
+        rot = frames.rot_z(turn) if uncertain else frames.rot_x(theta) @ frames.rot_z(turn)
+        axis = frames.rot_z(turn).T @ np.array([1.0, 0.0, 0.0])  # spacecraft x in the panel frame
+        node = sp["points"][label]
+        panels[label] = bodies.solar_panel(node, points[node], rot, sp["mass"], sp["r_og"], sp["inertia_g"], omega, sp["damping"],
+                                           sp["factors"], axis, ch["sadm_stiffness"], ch["sadm_friction"], label=label,
+                                           omega1=unc.get("omega1_SP"), tau=unc.get("tau"))
+
+    ant = p["antenna"]
+    n20 = origin + truss_nodes(tr["cube_side"])[ant["node"]]
+    antenna = bodies.rigid_appendage(ant["mass"], ant["inertia"], ant["node"], n20, name="ANT")
+
+    pm = p["pma"]
+    turns = {"x": frames.rot_z(-np.pi / 2), "y": np.eye(3)}  # the PMA axis v = y of its frame
+    truss_ports = sorted(pt.name for pt in truss_model.ports)
+    for i, spec in enumerate(ch["pma_layout"]):  # a node the truss does not expose would be left clamped to the ground
+        if spec.get("node") not in truss_ports or spec.get("direction") not in turns:
+            raise ValueError(f"choices.pma_layout[{i}] = {spec}: the node must be one of the truss ports {truss_ports} and "
+                             f"the direction one of {sorted(turns)}")
+    if ant["node"] not in truss_ports:
+        raise ValueError(f"antenna.node {ant['node']!r} must be one of the truss ports {truss_ports}")
+    pma_list = []
+    for i, spec in enumerate(ch["pma_layout"], start=1):
+        pos = origin + truss_nodes(tr["cube_side"])[spec["node"]]
+        pma_list.append(bodies.pma(spec["node"], pos, turns[spec["direction"]], pm["casing_mass"], pm["casing_inertia"], pm["r_og"],
+                                   pm["proof_mass"], pm["stiffness"], pm["damping"], pm["axis"], pm["r_op"], label=f"PMA{i}"))
+    pma_model = bodies.pma_block(pma_list)
+
+    model = connect([hub_model, truss_model, panels["SP1"], panels["SP2"], antenna, pma_model], name="spacecraft")
+    in_names = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
+    out_names = ([f"a_{ant['node']}_Rx", f"a_{ant['node']}_Ry"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+                 + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
+    lft = model.to_lft(in_names, out_names)
+    nd = lft.n_delta
+    g = ct.ss(lft.a, lft.b, lft.c, lft.d, inputs=[f"w_{b}_{i}" for i, b in enumerate(lft.blocks)] + INPUTS,
+              outputs=[f"z_{b}_{i}" for i, b in enumerate(lft.blocks)] + OUTPUTS, name="G")
+    blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
+    values: dict[str, float | None] = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
+                                           sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
+    if tunable:  # the arguments given for these were not used: the model holds them as LFT parameters
+        values["h"] = None
+    if uncertain:
+        values.update(theta=None, hub_mass=None, hub_iyy=None, panel_omega1=None)
+    return OpenLoop(g, model, blocks, values, lft if (uncertain or tunable) else None)
+
+
+def reduced_uncertain_model(h: float, omega_max: float | None = 500.0, omega_min: float = 0.01, params: dict | None = None) -> LFT:
+    """``F_u(G_r(h), Delta)``: the uncertain open loop at section side h, modally reduced.
+
+    The certain part of :func:`open_loop` ``(h, uncertain=True)`` (its 40 Delta channels kept as
+    inputs and outputs, grouped by parameter) loses its spurious slow poles (|s| < ``omega_min``)
+    and, unless ``omega_max`` is None (``G_r_low``), its modes above ``omega_max`` [rad/s] by
+    residualisation (paper: section "System Reduction"). Every uncertainty scenario is then a
+    static closure of the Delta channels of this one reduced model.
+    """
+    lft = open_loop(h, uncertain=True, params=params).uncertain().grouped()
+    red = modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min, omega_max=omega_max)
+    return LFT(*red.reduced, lft.blocks, lft.params)
+
+
+def scenario(theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None, panel_omega1: float | None = None,
+             params: dict | None = None) -> dict[str, float]:
+    """Physical values of the uncertain parameters for :meth:`trusscodesign.lft.LFT.substitute` (``tau = tan(theta / 4)``).
+
+    Parameters
+    ----------
+    theta : float
+        Panel angle [rad], in [-pi, pi].
+    hub_mass, hub_iyy, panel_omega1 : float, optional
+        Hub mass [kg], hub Iyy [kg m^2], first panel frequency [rad/s] (nominal if omitted).
+    """
+    theta = _panel_angle(theta)  # tau = tan(theta/4) in [-1, 1]
+    unc = uncertain_parameters(params)
+    out = {"tau": float(np.tan(theta / 4))}
+    for name, value in (("M_SC", hub_mass), ("Iyy_SC", hub_iyy), ("omega1_SP", panel_omega1)):
+        out[name] = unc[name].nominal if value is None else _finite(value, name)
+    return out
+
+
+def inertia_at_p1(model: LFT) -> np.ndarray:
+    """Rigid inertia of the whole spacecraft at P1 [kg m^2] (3x3), from the DC gain ``W_P1 -> a_P1`` at nominal values.
+
+    The 6x6 DC gain is inverted (the CoG is not at P1) and its rotational block returned:
+    the ``J_tot`` of the paper's ACS design.
+    """
+    a, b, c, d = model.evaluate({name: p.nominal for name, p in model.params.items()})
+    ii = [INPUTS.index(f"W_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    oo = [OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    dc = d[np.ix_(oo, ii)] - c[oo] @ np.linalg.solve(a, b[:, ii])
+    return np.linalg.inv(dc)[3:, 3:]
+
+
+def with_choices(params: dict | None = None, sadm_stiffness: float | None = None, sadm_friction: float | None = None,
+                 truss_damping: float | None = None, antenna_node: str | None = None, panel_turn_z_deg: dict | None = None) -> dict:
+    """A copy of the parameters with some of the paper's unpublished choices changed (for sensitivity studies).
+
+    Parameters
+    ----------
+    sadm_stiffness, sadm_friction : float, optional
+        SADM joint stiffness [N m/rad] and viscous friction [N m s/rad].
+    truss_damping : float, optional
+        Modal damping ratio of the truss beams (paper: 0.001).
+    antenna_node : str, optional
+        ``"N20"`` (default, the top node) or ``"N17"`` (the PMA node below it); the LOS is measured there.
+    panel_turn_z_deg : dict, optional
+        ``{"SP1": deg, "SP2": deg}``: turn of each panel frame about z before the panel angle rotation about x
+        (default +90 / -90: the panels' long axes along the rotation axis; 0 / 0 is the literal ``R_x(theta)``).
+    """
+    import copy
+
+    p = copy.deepcopy(params or load_parameters())
+    ch = p["choices"]
+    if sadm_stiffness is not None:
+        ch["sadm_stiffness"] = _finite(sadm_stiffness, "sadm_stiffness", positive=True)
+    if sadm_friction is not None:
+        ch["sadm_friction"] = _finite(sadm_friction, "sadm_friction")
+        if ch["sadm_friction"] < 0:
+            raise ValueError(f"sadm_friction must be >= 0 [N m s/rad], got {sadm_friction!r}")
+    if truss_damping is not None:
+        damping = _finite(truss_damping, "truss_damping")
+        if not 0 <= damping < 1:
+            raise ValueError(f"truss_damping must be in [0, 1), got {truss_damping!r}")
+        p["truss"]["damping"] = damping
+    if antenna_node is not None:
+        if antenna_node not in ("N17", "N20"):
+            raise ValueError(f"antenna_node must be 'N17' or 'N20' (the truss ports), got {antenna_node!r}")
+        p["antenna"]["node"] = antenna_node
+    if panel_turn_z_deg is not None:
+        if set(panel_turn_z_deg) != {"SP1", "SP2"}:
+            raise ValueError(f"panel_turn_z_deg needs the keys 'SP1' and 'SP2', got {sorted(panel_turn_z_deg)}")
+        ch["panel_turn_z_deg"] = {k: _finite(v, f"panel_turn_z_deg[{k}]") for k, v in panel_turn_z_deg.items()}
+    return p
+
+
+def load_preset(name: str) -> dict:
+    """A named preset of ``lib/trusscodesign/data/spacecraft/presets/<name>.json``: ``{"closed_loop": {...}, "choices": {...}}`` overrides.
+
+    Presets are separate studies (e.g. ``paper_match``), never the default parameters.
+    """
+    folder = paths.PACKAGE_DATA / "spacecraft" / "presets"
+    known = sorted(p.stem for p in folder.glob("*.json"))
+    if not isinstance(name, str) or name not in known:  # a name, not a path: "../parameters" must not reach other files
+        raise ValueError(f"unknown preset {name!r}: give the name of a file of {folder} without .json; available: {known}")
+    return json.loads((folder / f"{name}.json").read_text())
