@@ -194,7 +194,7 @@ def solar_panel(node: str, position: ArrayLike, rotation: ArrayLike, mass: float
                 friction: float, label: str = "SP", omega1=None, tau=None) -> MultiPortModel:
     """Flexible solar panel on a revolute joint driven by a SADM, expressed in the parent frame.
 
-    Steps (``../shared/docs/titop_math.md`` (design note) section f): the single-port flexible model of the panel
+    Steps (``docs/titop.md`` section f): the single-port flexible model of the panel
     (clamped at its root O, 3 modes) is augmented with the relative joint acceleration
     ``theta''`` about the joint axis e (panel frame) and the torque ``e^T W`` transmitted
     about it; that scalar channel is inverted (torque in, ``theta''`` out), and the joint

@@ -1,6 +1,6 @@
 """Frames and rigid kinematics: skew matrices, DCMs and the kinematic model tau.
 
-Conventions (paper, section "TITOP Approach"; ``../shared/docs/titop_math.md`` (design note) section a):
+Conventions (paper, section "TITOP Approach"; ``docs/titop.md`` section a):
 
 * an acceleration twist at a point P is ``a_P = [linear (3); angular (3)]``,
   a wrench is ``W = [force (3); moment about the point (3)]``;

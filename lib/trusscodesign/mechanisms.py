@@ -1,7 +1,7 @@
 """2D mechanisms built from TITOP beams by block-diagram interconnection.
 
 Paper: section "2D Mechanisms" (L-chain, triangle, square). Mathematics:
-``../shared/docs/titop_math.md`` (design note) section e. All ports are projected in one common frame;
+``docs/titop.md`` section e. All ports are projected in one common frame;
 the frame changes are inside the beam blocks (:func:`trusscodesign.titop.beam`).
 
 Nodes are given as ``(name, position)`` pairs; positions in metres. Every builder takes an

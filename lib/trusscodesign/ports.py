@@ -1,7 +1,7 @@
 """Multi-port (TITOP / NINOP) linear models: channel inversion, frame change, interconnection.
 
 Paper: section "TITOP Approach" and the block diagrams of sections "2D Mechanisms"
-and "3D Mechanisms". Mathematics: ``../shared/docs/titop_math.md`` (design note) sections a, d and e.
+and "3D Mechanisms". Mathematics: ``docs/titop.md`` sections a, d and e.
 
 A :class:`MultiPortModel` is a square linear model whose input/output channels come
 in *conjugated pairs*, grouped in ports. A 6-dof port is a node (a point with a
@@ -186,7 +186,7 @@ def invert_channels(
 
     The inputs ``u_I`` and outputs ``y_I`` of the channels in ``idx`` swap roles
     (new input ``y_I``, new output ``u_I``), staying in the same slots; this is
-    the paper's ``[M(s)]^{-1_I}`` (``../shared/docs/titop_math.md`` (design note) section d).
+    the paper's ``[M(s)]^{-1_I}`` (``docs/titop.md`` section d).
 
     Parameters
     ----------

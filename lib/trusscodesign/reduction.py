@@ -2,7 +2,7 @@
 
 Paper: section "System Reduction". Every 6-channel inversion that closes a
 kinematic loop leaves 12 poles at s = 0 that are uncontrollable or unobservable
-(``../shared/docs/titop_math.md`` (design note) section d); numerically they land at |s| ~ 1e-6..1e-3 on
+(``docs/titop.md`` section d); numerically they land at |s| ~ 1e-6..1e-3 on
 either side of the imaginary axis. They are selected here by *what they are*:
 the slow invariant subspace is split off with an ordered real Schur form and a
 Sylvester block-diagonalisation, and its input-output contribution is measured
