@@ -1,11 +1,9 @@
 """Print the reproduction summary of README.md (a Markdown table) from the stored results JSON.
 
-Every number of "This toolkit" is read from ``data/results/*.json`` (written by the notebooks) or
-``data/results/box/`` (notebook 07 with the box trust region alone), ``data/results/ball_minmax/`` (notebook 07 with
-min-max restoration steps, the stored run until 2026-12-05) and ``benchmarks/results/codesign_fast.json`` (the
-same by the fast path); the paper's numbers come from the same files where the notebooks stored
-them, else from the constants below (with the paper's section). ``tests/test_readme_summary.py`` fails when the
-README's table is not this script's output, so the table cannot drift from the stored results.
+Every number of "this toolkit" is read from ``data/results/*.json`` (written by the notebooks, nothing else); the
+paper's numbers come from the same files where the notebooks stored them, else from the constants below (with the
+paper's section). ``tests/test_readme_summary.py`` fails when the README's table is not this script's output, so the
+table cannot drift from the stored results.
 
 Usage: ``python scripts/summary.py [--root DIR]`` (default: the project folder).
 """
@@ -29,13 +27,6 @@ def _load(root: Path, name: str, whole: bool = False) -> dict:
     return stored if whole else stored["results"]
 
 
-def _archived_run(root: Path, folder: str) -> dict | None:
-    """Notebook 07's results kept in ``data/results/<folder>/`` (``box``: the box trust region alone and the dense path;
-    ``ball_minmax``: min-max restoration steps), if kept."""
-    path = root / "data" / "results" / folder / "07_pso_codesign.json"
-    return json.loads(path.read_text())["results"] if path.is_file() else None
-
-
 def _how(parameters: dict) -> str:
     """How notebook 07's stored run synthesised: its path, trust region and restoration (older runs record neither the
     trust region nor the restoration: box, min-max; the oldest not the path: dense)."""
@@ -49,7 +40,7 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
     r3, r4, r5 = _load(root, "03_cube_vs_nastran"), _load(root, "04_t_truss_spacecraft"), _load(root, "05_lft_reduction")
     r6, r8 = _load(root, "06_robust_synthesis"), _load(root, "08_worst_case_mu")
     f7 = _load(root, "07_pso_codesign", whole=True)
-    r7, how, box, mm = f7["results"], _how(f7["parameters"]), _archived_run(root, "box"), _archived_run(root, "ball_minmax")
+    r7, how = f7["results"], _how(f7["parameters"])
     err = r3["mean_relative_error_vs_nastran"]
     occ, occ_p = r5["occurrences"], r5["paper_occurrences"]
     names = ("M_SC", "Iyy_SC", "omega1_SP", "tau", "h")
@@ -59,8 +50,6 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
     table, paper, td, st = r8["table"], r8["paper"], r8["time_domain"], r6["settings"]
     preset = r7["preset"]
     t30 = next(r for r in r6["sensitivity"] if r["variant"] == "t_delta_30ms")
-    fast = root / "benchmarks" / "results" / "codesign_fast.json"  # the box trust region alone, fast path
-    fast_min = json.loads(fast.read_text())["wall_time_min"] if fast.is_file() else None
 
     def mu(group: str, src: dict, suffix: str = "") -> str:
         t = src[group + suffix]
@@ -88,22 +77,14 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
         ("Co-design optimum: h / truss mass / change from m0 / J_c",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
          f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / "
-         f"{opt['J_c']:.3f} ({how})"
-         + (f"; with min-max restoration: {100 * mm['optimum']['h']:.3f} cm, J_c {mm['optimum']['J_c']:.3f}" if mm else "")
-         + (f"; the box trust region alone: {100 * box['optimum']['h']:.3f} cm, J_c {box['optimum']['J_c']:.3f} (a stalled synthesis)"
-            if box else ""), "07"),
+         f"{opt['J_c']:.3f} ({how})", "07"),
         (f"Co-design with that preset ({preset['n_particles']} x {preset['n_iterations']} swarm): h / truss mass / J_c", "-",
          f"{100 * preset['best']['h']:.3f} cm / {preset['best']['mass']:.2f} kg / {preset['best']['J_c']:.3f}", "07"),
         ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %)", "-",
-         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at {100 * r7['grid_minimum']['h']:.2f} cm)"
-         + (f"; with min-max restoration: {100 * mm['pso_vs_grid']:+.2f} %" if mm else "")
-         + (f"; the box trust region alone: {100 * box['pso_vs_grid']:+.2f} % (grid minimum {box['grid_minimum']['f']:.4f} at "
-            f"{100 * box['grid_minimum']['h']:.2f} cm)" if box else ""), "07"),
+         f"{100 * r7['pso_vs_grid']:+.2f} % (grid minimum {r7['grid_minimum']['f']:.4f} at {100 * r7['grid_minimum']['h']:.2f} cm)",
+         "07"),
         ("Co-design 24 x 20: wall time", PAPER_CODESIGN_TIME,
-         f"{r7['run_time_s'] / 60:.1f} min (stored run)"
-         + (f"; with min-max restoration: {mm['run_time_s'] / 60:.1f} min" if mm else "")
-         + (f"; the box trust region alone: {box['run_time_s'] / 60:.1f} min" if box else "")
-         + (f", {fast_min:.1f} min by the fast path" if fast_min else "") + " on 2 cores", "07"),
+         f"{r7['run_time_s'] / 60:.1f} min (stored run, 2 cores)", "07"),
         ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),

@@ -1,9 +1,11 @@
-"""The README's summary table is what ``scripts/summary.py`` prints from the stored results, and it reads them."""
+"""The README's summary table is what ``scripts/summary.py`` prints from the stored results, and it reads them; the
+numbers of the README's "results at a glance" paragraph are the table's."""
 
 from __future__ import annotations
 
 import importlib.util
 import json
+import re
 import shutil
 from pathlib import Path
 
@@ -27,17 +29,34 @@ def test_readme_table_is_the_summary_of_the_stored_results() -> None:
     assert table == _summary().markdown(ROOT), "README.md is stale: paste the output of python scripts/summary.py"
 
 
+def _block(name: str) -> str:
+    readme = (ROOT / "README.md").read_text()
+    start, end = f"<!-- {name}:start -->\n", f"\n<!-- {name}:end -->"
+    assert readme.count(start) == 1 and readme.count(end) == 1, f"the README's {name} markers are missing"
+    return readme[readme.index(start) + len(start):readme.index(end)]
+
+
+def test_readme_glance_numbers_are_the_tables() -> None:
+    """Every number of the "results at a glance" paragraph appears in the generated table, so it cannot drift either."""
+    glance, table = _block("glance"), _summary().markdown(ROOT)
+    numbers = re.findall(r"[+-]?\d+(?:\.\d+)?", glance)
+    assert numbers, "the glance paragraph quotes no number: drop its markers or this test"
+    assert [n for n in numbers if n not in table] == []
+
+
 def test_summary_follows_the_results_files(tmp_path: Path) -> None:
-    """A changed result changes the table (nothing hard-coded); a missing file names the notebook to run."""
-    shutil.copytree(ROOT / "data" / "results", tmp_path / "data" / "results")
+    """The table needs only the notebooks' own files (no sub-folder of data/results, no benchmark result); a changed
+    result changes it (nothing hard-coded); a missing file names the notebook to run."""
+    shutil.copytree(ROOT / "data" / "results", tmp_path / "data" / "results",
+                    ignore=lambda folder, names: [n for n in names if (Path(folder) / n).is_dir()])
+    summary = _summary()
+    assert summary.markdown(tmp_path) == summary.markdown(ROOT)
     path = tmp_path / "data" / "results" / "06_robust_synthesis.json"
     stored = json.loads(path.read_text())
     stored["results"]["designs"]["2.139"]["J_c"] = 0.8765
     path.write_text(json.dumps(stored))
-    summary = _summary()
     row = next(r for r in summary.rows(tmp_path) if r[0].startswith("Robust design"))
     assert row[2].startswith("0.8765 / ")
-    assert "by the fast path" not in summary.markdown(tmp_path)  # no benchmark results in this folder
     (tmp_path / "data" / "results" / "08_worst_case_mu.json").unlink()
     with pytest.raises(FileNotFoundError, match="run notebook 08"):
         summary.markdown(tmp_path)

@@ -1,0 +1,56 @@
+"""docs/results.md is what ``scripts/results_page.py`` writes from the stored results, and it reads them."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).parents[1]
+
+
+def _generator():
+    spec = importlib.util.spec_from_file_location("results_page", ROOT / "scripts" / "results_page.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _results_copy(tmp_path: Path) -> Path:
+    """The stored notebook results, without any sub-folder of data/results (the page reads only the top-level files)."""
+    shutil.copytree(ROOT / "data" / "results", tmp_path / "data" / "results",
+                    ignore=lambda folder, names: [n for n in names if (Path(folder) / n).is_dir()])
+    return tmp_path
+
+
+def test_results_page_is_the_generators_output() -> None:
+    page = (ROOT / "docs" / "results.md").read_text()
+    assert page == _generator().page(ROOT), "docs/results.md is stale: run python scripts/results_page.py"
+
+
+def test_results_page_has_no_history() -> None:
+    """A results page, not a log: no commit ids, no dates, no archived runs."""
+    page = (ROOT / "docs" / "results.md").read_text()
+    assert not re.search(r"\b20\d\d-\d\d-\d\d\b", page)
+    assert not re.search(r"\b(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}\b", page)
+    assert "data/results/box" not in page and "ball_minmax" not in page and "../shared" not in page
+
+
+def test_results_page_follows_the_results_files(tmp_path: Path) -> None:
+    """A changed result changes the page (nothing hard-coded); the page needs only the notebooks' own files; a missing
+    file names the notebook to run."""
+    root = _results_copy(tmp_path)
+    generator = _generator()
+    assert generator.page(root) == generator.page(ROOT)
+    path = root / "data" / "results" / "06_robust_synthesis.json"
+    stored = json.loads(path.read_text())
+    stored["results"]["designs"]["2.139"]["J_c"] = 0.8765
+    path.write_text(json.dumps(stored))
+    assert "0.8765" in generator.page(root) and "0.8765" not in generator.page(ROOT)
+    (root / "data" / "results" / "08_worst_case_mu.json").unlink()
+    with pytest.raises(FileNotFoundError, match="run notebook 08"):
+        generator.page(root)
