@@ -34,6 +34,7 @@ from dataclasses import dataclass, field, fields, replace
 from functools import lru_cache
 from typing import cast
 
+import control as ct
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
@@ -223,8 +224,30 @@ class GeneralizedPlant:
             raise ValueError(f"gain must be a finite {self.N_V}x{self.N_Y} matrix (PMA commands x accelerations), got shape {k.shape}")
         return k
 
-    def closed_loop(self, gain: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-        """``F_l(P, K)`` for the static gain ``v = K y``: from ``[w; p~]`` to ``[z; RPE; W~u]``."""
+    def input_names(self) -> list[str]:
+        """Signal names of the inputs ``[w; p~; v]``: ``w_delta<i>``, ``pn_SP1``, ``pn_SP2`` (the SADM torques over
+        ``p_max``) and ``v_PMA1`` to ``v_PMA4`` (the PMA commands)."""
+        return [f"w_delta{i}" for i in range(self.n_delta)] + ["pn_SP1", "pn_SP2"] + [f"v_PMA{i}" for i in range(1, 5)]
+
+    def output_names(self) -> list[str]:
+        """Signal names of the outputs ``[z; RPE; W~u; y]``: ``z_delta<i>``, ``RPE_el``, ``RPE_az``, ``Wu_PMA1`` to
+        ``Wu_PMA4`` (the PMA effort over ``u_max``) and the 8 measured accelerations (:data:`MEASUREMENTS`)."""
+        return ([f"z_delta{i}" for i in range(self.n_delta)] + ["RPE_el", "RPE_az"] + [f"Wu_PMA{i}" for i in range(1, 5)]
+                + MEASUREMENTS)
+
+    def to_ss(self) -> ct.StateSpace:
+        """``P`` as a ``control.StateSpace`` with named signals (:meth:`input_names`, :meth:`output_names`)."""
+        return ct.ss(self.a, self.b, self.c, self.d, inputs=self.input_names(), outputs=self.output_names(), name="P")
+
+    def closed_loop(self, gain: ArrayLike) -> ct.StateSpace:
+        """``F_l(P, K)`` for the static gain ``v = K y``, from ``[w; p~]`` to ``[z; RPE; W~u]``, as a ``control.StateSpace``
+        with the names of :meth:`to_ss` (its matrices: :meth:`closed_loop_matrices`)."""
+        ne, nr = self.n_exo, self.n_reg
+        return ct.ss(*self.closed_loop_matrices(gain), inputs=self.input_names()[:ne], outputs=self.output_names()[:nr],
+                     name="F_l(P, K)")
+
+    def closed_loop_matrices(self, gain: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+        """``(A, B, C, D)`` of ``F_l(P, K)`` (:meth:`closed_loop`), for the numerical loops that need no object."""
         k = self._check_gain(gain)
         ne, nr = self.n_exo, self.n_reg
         kk = np.zeros((self.b.shape[1], self.c.shape[0]))
@@ -239,7 +262,7 @@ class GeneralizedPlant:
         ne, nr = self.n_exo, self.n_reg
         d_yv = self.d[nr:, ne:]
         if np.any(d_yv):
-            return np.linalg.eigvals(self.closed_loop(k)[0])
+            return np.linalg.eigvals(self.closed_loop_matrices(k)[0])
         return np.linalg.eigvals(self.a + self.b[:, ne:] @ k @ self.c[nr:, :])
 
     def passive_damping(self) -> float:

@@ -19,6 +19,7 @@ import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
+import control as ct
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -41,7 +42,8 @@ class DesignModels:
     h : float
         Section side [m].
     g_r, g_r_low : trusscodesign.lft.LFT
-        ``F_u(G_r(h), Delta)`` (modes up to ``omega_max``) and ``F_u(G_r_low(h), Delta)`` (all flexible modes).
+        ``F_u(G_r(h), Delta)`` (modes up to ``omega_max``) and ``F_u(G_r_low(h), Delta)`` (all flexible modes); as
+        named ``control.StateSpace`` objects: :attr:`G_r` and :attr:`G_r_low`.
     g_check : trusscodesign.lft.LFT
         ``G_r_low`` reduced at ``omega_spill`` (1e4 rad/s by default, 20 x ``omega_max``): the spillover model of the
         synthesis (its eigen-decomposition per iteration costs half that of ``G_r_low``; ``G_r_low`` itself is
@@ -65,6 +67,18 @@ class DesignModels:
     build_time_s: float
     omega_max: float = 500.0
     assembly_time_s: float = 0.0
+
+    @property
+    def G_r(self) -> ct.StateSpace:
+        """``G_r`` as a ``control.StateSpace`` named as the open loop (``spacecraft.INPUTS``, ``spacecraft.OUTPUTS``), its
+        Delta channels open first (``w_<parameter>_<i>``, ``z_<parameter>_<i>``)."""
+        return self.g_r.to_ss(spacecraft.INPUTS, spacecraft.OUTPUTS, name="G_r")
+
+    @property
+    def G_r_low(self) -> ct.StateSpace:
+        """``G_r_low`` (every flexible mode, the spurious slow poles removed) as a named ``control.StateSpace``, as
+        :attr:`G_r`."""
+        return self.g_r_low.to_ss(spacecraft.INPUTS, spacecraft.OUTPUTS, name="G_r_low")
 
 
 def in_design_range(h: float, params: dict | None = None) -> bool:

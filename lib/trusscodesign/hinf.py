@@ -25,7 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
+from control import StateSpace
 from scipy.optimize import minimize_scalar
+
+from .ports import ss_matrices
 
 __all__ = ["HinfResult", "hinf_norm", "sigma_max", "peak_grid", "grid_peak"]
 
@@ -167,14 +170,15 @@ def _crossings(sys: _System, gamma: float) -> NDArray[np.float64]:
     return np.sort(lam.imag[(np.abs(lam.real) <= _IMAG_TOL * np.maximum(np.abs(lam), tiny)) & (lam.imag > 0)])
 
 
-def hinf_norm(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, rtol: float = 1e-7,
-              omega_hint: ArrayLike | None = None, max_iter: int = 30) -> HinfResult:
+def hinf_norm(a: ArrayLike | StateSpace, b: ArrayLike | None = None, c: ArrayLike | None = None, d: ArrayLike | None = None,
+              rtol: float = 1e-7, omega_hint: ArrayLike | None = None, max_iter: int = 30) -> HinfResult:
     """H-infinity norm of a stable continuous-time system (Bruinsma-Steinbuch algorithm).
 
     Parameters
     ----------
-    a, b, c, d : array_like
-        Real state-space matrices, shapes (n, n), (n, m), (p, n), (p, m); A must be stable.
+    a, b, c, d : array_like, or a control.StateSpace alone
+        Real state-space matrices, shapes (n, n), (n, m), (p, n), (p, m), or a continuous-time
+        ``control.StateSpace`` as ``a`` (then ``b``, ``c``, ``d`` are not given); A must be stable.
     rtol : float
         ``0 < rtol < 1``; certified means ``norm <= ||G||_inf <= (1 + rtol) norm`` (in practice
         much better: each new bound is refined to a local maximum), shown by a Hamiltonian test whose
@@ -204,6 +208,8 @@ def hinf_norm(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike, rtol: floa
         raise ValueError(f"rtol must be in (0, 1), got {rtol!r}")
     if int(max_iter) < 1:
         raise ValueError(f"max_iter must be >= 1, got {max_iter!r}")
+    if isinstance(a, StateSpace) or b is None or c is None or d is None:
+        a, b, c, d = ss_matrices(a, b, c, d, name="hinf_norm's system")
     sys = _prepare(a, b, c, d)
     if sys.poles.real.max() >= 0:
         raise ValueError(f"a is not stable (an eigenvalue has real part {sys.poles.real.max():.3g} >= 0): "

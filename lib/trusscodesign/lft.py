@@ -19,12 +19,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+import control as ct
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
 from .checks import check_real
-from .ports import close_static, frequency_response, invert_channels, state_space_arrays
+from .ports import close_static, frequency_response, invert_channels, ss_matrices, state_space_arrays
 
 __all__ = ["Parameter", "LFT", "block_runs"]
 
@@ -159,9 +160,10 @@ class LFT:
         return cls(np.zeros((0, 0)), np.zeros((0, m.shape[1])), np.zeros((m.shape[0], 0)), m)
 
     @classmethod
-    def from_ss(cls, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> "LFT":
-        """A certain system."""
-        return cls(a, b, c, d)
+    def from_ss(cls, system: ArrayLike | ct.StateSpace, b: ArrayLike | None = None, c: ArrayLike | None = None,
+                d: ArrayLike | None = None) -> "LFT":
+        """A certain system, from a continuous-time ``control.StateSpace`` alone or from its four matrices."""
+        return cls(*ss_matrices(system, b, c, d, name="LFT.from_ss"))
 
     @classmethod
     def param(cls, p: Parameter) -> "LFT":
@@ -208,6 +210,22 @@ class LFT:
         return f"LFT({self.shape[0]}x{self.shape[1]}, {self.nstates} states; {occ})"
 
     # ------------------------------------------------------------ combination
+    def to_ss(self, inputs: Sequence[str] | None = None, outputs: Sequence[str] | None = None, name: str | None = None) -> ct.StateSpace:
+        """The certain part ``M`` as a ``control.StateSpace`` with named signals, the Delta channels open.
+
+        Inputs ``[w_<parameter>_<i>; inputs]`` and outputs ``[z_<parameter>_<i>; outputs]``, ``i`` the Delta channel's
+        index; the io names default to ``u[k]`` and ``y[k]``. Close the Delta channels with :meth:`substitute` first for
+        the model at given parameter values.
+        """
+        nd, (ny, nu) = self.n_delta, self.shape
+        inputs = [f"u[{k}]" for k in range(nu)] if inputs is None else list(inputs)
+        outputs = [f"y[{k}]" for k in range(ny)] if outputs is None else list(outputs)
+        if len(inputs) != nu or len(outputs) != ny:
+            raise ValueError(f"the LFT has {nu} inputs and {ny} outputs besides its {nd} Delta channels: got {len(inputs)} "
+                             f"input and {len(outputs)} output names")
+        return ct.ss(self.a, self.b, self.c, self.d, inputs=[f"w_{b}_{i}" for i, b in enumerate(self.blocks)] + inputs,
+                     outputs=[f"z_{b}_{i}" for i, b in enumerate(self.blocks)] + outputs, **({"name": name} if name else {}))
+
     @staticmethod
     def _stack(parts: Sequence["LFT"]) -> tuple[tuple[NDArray, NDArray, NDArray, NDArray], list[str], dict[str, Parameter], int]:
         """Block-diagonal stack ordered ``[all Delta channels; all io channels]``: matrices, blocks, params, n_delta."""

@@ -44,6 +44,7 @@ __all__ = [
     "Port",
     "MultiPortModel",
     "state_space_arrays",
+    "ss_matrices",
     "invert_channels",
     "close_static",
     "connect",
@@ -79,6 +80,27 @@ def state_space_arrays(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -
         raise ValueError(f"with {n} states and D of shape {d.shape}, B must be {(n, d.shape[1])} and C {(d.shape[0], n)}; "
                          f"got B {b.shape} and C {c.shape}")
     return a, b, c, d
+
+
+def ss_matrices(system: ArrayLike | ct.StateSpace, b: ArrayLike | None = None, c: ArrayLike | None = None,
+                d: ArrayLike | None = None, name: str = "system") -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """``(A, B, C, D)``, checked as :func:`state_space_arrays`, from a continuous-time ``control.StateSpace`` given alone
+    or from the four matrices.
+
+    Raises
+    ------
+    ValueError
+        A discrete-time system, or matrices given only in part.
+    """
+    if isinstance(system, ct.StateSpace):
+        if b is not None or c is not None or d is not None:
+            raise ValueError(f"{name}: give a control.StateSpace alone, or the four matrices A, B, C, D")
+        if system.isdtime(strict=True):
+            raise ValueError(f"{name} must be a continuous-time system, got sampling time dt = {system.dt}")
+        return state_space_arrays(system.A, system.B, system.C, system.D)
+    if b is None or c is None or d is None:
+        raise ValueError(f"{name}: give a control.StateSpace, or all four matrices A, B, C, D (got A alone or in part)")
+    return state_space_arrays(system, b, c, d)
 
 
 @dataclass(frozen=True)

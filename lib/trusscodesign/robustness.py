@@ -305,7 +305,7 @@ def _loop_at_angle(model_low: LFT, theta: float, gain: ArrayLike, inertia_p1: Ar
     structure = block_runs(kept)
     if len({name for name, _ in structure}) != len(structure):
         raise ValueError(f"the Delta channels of model_low must be grouped by parameter (LFT.grouped()), got {kept}")
-    a, b, c, d = plant.closed_loop(gain)
+    a, b, c, d = plant.closed_loop_matrices(gain)
     if np.linalg.eigvals(a).real.max() >= 0:
         raise ValueError(f"the closed loop is unstable at nominal parameters and theta = {np.rad2deg(theta):.2f} deg")
     sl = plant.slices()

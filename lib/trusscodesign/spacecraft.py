@@ -259,8 +259,7 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
                  + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
     lft = model.to_lft(in_names, out_names)
     nd = lft.n_delta
-    g = ct.ss(lft.a, lft.b, lft.c, lft.d, inputs=[f"w_{b}_{i}" for i, b in enumerate(lft.blocks)] + INPUTS,
-              outputs=[f"z_{b}_{i}" for i, b in enumerate(lft.blocks)] + OUTPUTS, name="G")
+    g = lft.to_ss(INPUTS, OUTPUTS, name="G")
     blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
     values: dict[str, float | None] = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
                                            sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)

@@ -29,6 +29,7 @@ A synthesis that does not reach a stable, feasible, converged point is returned 
 from __future__ import annotations
 
 import inspect
+import logging
 import os
 import time
 import warnings
@@ -53,6 +54,9 @@ from .modalpool import ModalPool, shared_pool
 
 __all__ = ["ALGORITHM", "NOT_STABILISED", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
            "search_candidates", "plant_at", "default_scenarios", "exact_norms", "sigma_curve", "check_options"]
+
+# progress: a line per round (INFO) and per accepted step (DEBUG); enable with logging.getLogger("trusscodesign").setLevel(...)
+logger = logging.getLogger(__name__)
 
 GROUPS = ("rpe", "effort")
 # Version of the optimiser: stored with cached results (co-design grid, swarm checkpoints) so that results of an
@@ -374,7 +378,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
     sl = plant.slices()
     ne, nr = plant.n_exo, plant.n_reg
     if modal is None:
-        a, b, c, d = plant.closed_loop(k)
+        a, b, c, d = plant.closed_loop_matrices(k)
         b, d = b[:, sl["p"]], d[:, sl["p"]]
         lam, vec = np.linalg.eig(a)
         cv_all, vb = c @ vec, np.linalg.solve(vec, b)
@@ -1078,7 +1082,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
                min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
                tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
-               verbose: bool = False, fast: bool = False, trust_region: str = "box", restoration: str = "minmax",
+               fast: bool = False, trust_region: str = "box", restoration: str = "minmax",
                max_unstable: int = 1, fast_search: bool = False, search_max_evals: int = 30,
                peak_refine: str = "zoom", processes: bool = False, stall_steps: int = 5,
                carry_history: bool = False) -> SynthesisResult:
@@ -1140,8 +1144,6 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         Initial trust radius on each gain entry.
     workers : int, optional
         Threads evaluating the scenarios (default: up to 2); BLAS is limited to one thread each.
-    verbose : bool
-        Print a line per round and per accepted step.
     fast : bool
         Evaluate the scenario plants and stability-only plants during the optimisation through their open-loop
         modal form (:mod:`trusscodesign.modalloop`: ``O(n^2)`` per gain instead of a dense eigen-decomposition); the final
@@ -1245,7 +1247,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             return list(pmap(lambda job: plant_at(job[0][0], job[1], job[0][1], settings), [(loop, sc) for loop in loops for sc in scs]))
 
         prob = _Problem(plants_for(scen), list(stability_models), pmap,
-                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, verbose, min_damping, omega_check,
+                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, min_damping, omega_check,
                         min_damping_all, chunk=_n_workers(workers), fast=fast, trust_region=trust_region,
                         restoration=restoration, peak_refine=peak_refine, pool=pool, stall_steps=stall_steps,
                         carry_history=carry_history)
@@ -1268,10 +1270,9 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
             prob.evaluations += worst.evaluations
             searches += 1
             added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin, max_unstable)
-            if verbose:
-                print(f"round {round_}: {len(prob.plants)} scenario plants, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
-                      f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
-                      f"({time.perf_counter() - t0:.1f} s)")
+            logger.info(f"round {round_}: {len(prob.plants)} scenario plants, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
+                        f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
+                        f"({time.perf_counter() - t0:.1f} s)")
             if not added and not at_limit:
                 message = "converged: the worst-case search finds nothing worse than the scenario set"
                 break
@@ -1351,7 +1352,6 @@ class _Problem:
     tol: float
     radius0: float
     max_iter: int
-    verbose: bool
     min_damping: float = 0.0
     omega_check: float = 0.0
     min_damping_all: float = 0.0
@@ -1590,8 +1590,7 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             state = trial
             prob.history.append(dict(phase="optimise" if feasible else "feasibility", J=trial.value("rpe"), Z=trial.value("effort"),
                                      radius=float(radius.max())))
-            if prob.verbose:
-                print(f"  it {prob.iterations}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
+            logger.debug(f"it {prob.iterations}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
             radius = radius * (2.0 if ratio > 0.75 else 1.0)
             accepted = accepted + [trial.value("rpe")] if feasible else []
             if feasible and metric is not None:
@@ -1614,7 +1613,7 @@ def exact_norms(plant: GeneralizedPlant, gain: ArrayLike, rtol: float = 1e-7) ->
     Returns ``{"rpe": (norm, omega [rad/s], certified), "effort": (...)}``. The channels are already
     scaled by the weights (RPE weight 1/eps_max = 2e4, effort 1/u_max); the state is balanced inside.
     """
-    a, b, c, d = plant.closed_loop(gain)
+    a, b, c, d = plant.closed_loop_matrices(gain)
     sl = plant.slices()
     out = {}
     with threadpool_limits(1):
@@ -1632,7 +1631,7 @@ def sigma_curve(plant: GeneralizedPlant, gain: ArrayLike, group: str, omega_rang
     """
     from .hinf import peak_grid, sigma_max
 
-    a, b, c, d = plant.closed_loop(gain)
+    a, b, c, d = plant.closed_loop_matrices(gain)
     sl = plant.slices()
     w = peak_grid(a, omega_range[0], omega_range[1], n_log=n_log)
     with threadpool_limits(1):

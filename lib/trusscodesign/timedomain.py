@@ -212,6 +212,6 @@ def loop_sine_response(plant: GeneralizedPlant, gain: ArrayLike, group: str, ome
         raise ValueError(f"group must be 'rpe' or 'effort', got {group!r}")
     if plant.n_delta:
         raise ValueError("loop_sine_response needs a plant without open Delta channels (substitute the uncertain parameters)")
-    a, b, c, d = plant.closed_loop(gain)
+    a, b, c, d = plant.closed_loop_matrices(gain)
     sl = plant.slices()
     return sine_response(a, b[:, sl["p"]], c[sl[group]], d[sl[group], sl["p"]], omega, duration, samples_per_period)

@@ -356,3 +356,14 @@ def test_small_feedthrough_mimo_start_bound_at_infinity_against_ab13dd():
     assert 3e-10 < dc < inf < 4e-10  # the premise: the start bound at infinity (G(0) = D - C A^-1 B ~ D), far below the peak
     res, (gpeak, _) = hinf_norm(*sys_), ab13dd(*sys_)
     assert res.certified and abs(res.norm / gpeak - 1) <= 1e-6
+
+
+def test_a_statespace_gives_the_same_norm_as_its_matrices():
+    import control as ct
+
+    sys_ = one_mode(0.01, 3.0)
+    assert hinf_norm(ct.ss(*sys_)).norm == hinf_norm(*sys_).norm
+    with pytest.raises(ValueError, match="continuous-time"):
+        hinf_norm(ct.ss(*sys_, dt=0.01))
+    with pytest.raises(ValueError, match="A, B, C, D"):
+        hinf_norm(sys_[0])

@@ -227,3 +227,25 @@ def test_scalar_times_an_ill_conditioned_matrix_keeps_its_small_singular_directi
 def test_percent_parameter_of_a_negative_nominal():
     p = Parameter.percent("x", -5.0, 10.0)
     assert (p.low, p.high) == pytest.approx((-5.5, -4.5)) and p.nominal == -5.0
+
+
+def test_lft_to_and_from_statespace_keep_the_realisation_and_name_the_channels():
+    import control as ct
+
+    q = Parameter.percent("q", 2.0, 50.0)
+    s1 = stable_ss(3, 2, 2, rng=np.random.default_rng(5))
+    g = LFT.from_ss(*s1) @ (np.eye(2) * (1.0 + 0.5 * LFT.param(q)))
+    sys = g.to_ss(["u1", "u2"], ["y1", "y2"], name="G")
+    assert isinstance(sys, ct.StateSpace) and sys.name == "G"
+    assert sys.input_labels == ["w_q_0", "w_q_1", "u1", "u2"] and sys.output_labels == ["z_q_0", "z_q_1", "y1", "y2"]
+    for x, y in zip((sys.A, sys.B, sys.C, sys.D), (g.a, g.b, g.c, g.d)):
+        np.testing.assert_array_equal(x, y)
+    back = LFT.from_ss(ct.ss(*s1))  # a StateSpace alone gives the same certain system as its matrices
+    for x, y in zip((back.a, back.b, back.c, back.d), (LFT.from_ss(*s1).a, LFT.from_ss(*s1).b, LFT.from_ss(*s1).c, LFT.from_ss(*s1).d)):
+        np.testing.assert_array_equal(x, y)
+    with pytest.raises(ValueError, match="2 inputs"):
+        g.to_ss(["u1"], ["y1", "y2"])
+    with pytest.raises(ValueError, match="continuous-time"):
+        LFT.from_ss(ct.ss(*s1, dt=0.1))
+    with pytest.raises(ValueError, match="all four matrices"):
+        LFT.from_ss(s1[0], s1[1])

@@ -159,7 +159,7 @@ def test_response_against_direct_solve(model, inertia, gain):
     lam = ml.poles(gain)
     w = np.unique(np.r_[np.geomspace(1e-2, 3e3, 60), np.abs(lam.imag[(lam.imag > 1e-2) & (lam.imag < 3e3)])])
     t = ml.responder(gain)(w)
-    a, b, c, d = plant.closed_loop(gain)
+    a, b, c, d = plant.closed_loop_matrices(gain)
     sl = plant.slices()
     ref = np.moveaxis(frequency_response(a, b[:, sl["p"]], c, d[:, sl["p"]], w), 2, 0)
     for rows in (slice(0, 2), slice(2, 6)):
@@ -366,7 +366,7 @@ def test_a_peak_outside_the_default_range_is_found(omega):
     """A lightly damped mode below 0.01 or above 3000 rad/s: the grid is widened to it (was 97 % low at 5e3 rad/s)."""
     plant = _modes_plant([(omega, 1e-3), (20.0, 1e-2)], np.random.default_rng(4))
     k = np.zeros((4, 8))
-    a, b, c, d = plant.closed_loop(k)
+    a, b, c, d = plant.closed_loop_matrices(k)
     sl = plant.slices()
     exact = hinf.hinf_norm(a, b[:, sl["p"]], c[sl["rpe"]], d[sl["rpe"], sl["p"]]).norm
     lp = synthesis.loop_peaks(plant, k)

@@ -163,3 +163,20 @@ def test_stored_design_takes_papermills_integer_sources(tmp_path: pathlib.Path) 
     assert design.stored_design(7, str(tmp_path))[:2] == ("07", 0.0215)
     src, h, k = design.stored_design(6, str(tmp_path), 0.02139)
     assert (src, h) == ("06", 0.02139) and np.array_equal(k, gain)
+
+
+def test_design_models_give_g_r_as_a_named_statespace(model) -> None:
+    """``DesignModels.G_r``: the reduced model's realisation, the Delta channels first, then the open loop's names."""
+    import control as ct
+    import numpy as np
+
+    from trusscodesign import spacecraft
+    from trusscodesign.design import DesignModels
+
+    m = DesignModels(0.02139, model, model, model, np.eye(3), 0.0, 0.0)
+    g = m.G_r
+    assert isinstance(g, ct.StateSpace) and g.name == "G_r"
+    nd = model.n_delta
+    assert g.input_labels[nd:] == spacecraft.INPUTS and g.output_labels[nd:] == spacecraft.OUTPUTS
+    assert all(label.startswith("w_") for label in g.input_labels[:nd]) and g.nstates == model.nstates
+    np.testing.assert_array_equal(g.D, model.d)

@@ -345,7 +345,7 @@ def _damping_minimised_worst(w0=3.0, z0=1e-4, alpha=0.3, g=1.2):
 def _damping_response():
     """The plant above with K = 0 as a ModalResponse: its two Delta channels, then p~_1 -> RPE_1."""
     plant, closed = _damping_minimised_inside()
-    a, b, c, d = plant.closed_loop(np.zeros((4, 8)))
+    a, b, c, d = plant.closed_loop_matrices(np.zeros((4, 8)))
     return robustness.ModalResponse(a, b[:, :3], c[[0, 1, 2]], d[[0, 1, 2]][:, :3]), closed
 
 

@@ -87,7 +87,7 @@ def test_spacecraft_closed_loop_at_its_peak(model, inertia):
     w = peaks.omega("rpe")
     res = timedomain.loop_sine_response(plant, gain, "rpe", w, duration=40 * 2 * np.pi / w)
     assert res.sigma == pytest.approx(peaks.norm("rpe"), rel=1e-6)
-    a, b, c, d = plant.closed_loop(gain)
+    a, b, c, d = plant.closed_loop_matrices(gain)
     sl = plant.slices()
     at = np.linspace(0, res.t.size - 1, 60).astype(int)
     exact = timedomain.exact_sine_response(a, b[:, sl["p"]], c[sl["rpe"]], d[sl["rpe"], sl["p"]], w, res.direction, res.t[at])
