@@ -1,25 +1,20 @@
-"""Benchmark: the whole paper-setting co-design (24 particles x 20 iterations) on this machine.
+"""Benchmark: the whole paper-setting co-design (24 particles x 20 iterations) on this machine, with notebook 07's options.
 
 Each particle is a full robust multi-model synthesis (notebook 06), warm-started from the previous iteration's
 best particle; the particles of an iteration run on a local Dask cluster (one worker per core, one BLAS thread
-each). Reports the wall time, the time per objective evaluation split into model assembly, reduction and synthesis,
-and the result; saves benchmarks/results/codesign.json. The paper: 11 h 16 min on 24 cores.
+each). Every synthesis takes notebook 07's default options (``codesign.synthesis_options(True, "ball", "least_change")``:
+the co-design's tolerance, the fast path, the ball trust region, least-change restoration) and the swarm MATLAB
+particleswarm's documented rules. Reports the wall time, the time per objective evaluation split into model assembly,
+reduction and synthesis, and the result; saves benchmarks/results/codesign.json. The paper: 11 h 16 min on 24 cores;
+the target here: under 60 min on 2 cores.
 
-With ``--fast`` every synthesis evaluates the optimiser's plants by the fast path (``fast=True``, :mod:`trusscodesign.modalloop`;
-J_c, Z_c and success still from the dense final evaluation and searches); its checkpoint and JSON are separate
-(``runs/benchmark_codesign_fast_checkpoint.json``, ``results/codesign_fast.json``). An interrupted run resumes from its
-checkpoint: the wall time reported is the sum over its iterations, whatever the sessions they ran in. With
-``--rule matlab`` the swarm adapts by MATLAB particleswarm's rules as its code applies them (:mod:`trusscodesign.pso`), with
-``_matlab_rule`` added to the names of the checkpoint and JSON; with ``--trust-region ball`` every synthesis steps in the
-box cut by a ball (``benchmarks/trust_region.py``), ``_ball`` added to the names; with ``--restoration least_change``
-stability is restored by least-change steps (``benchmarks/restoration.py``), ``_least_change`` added (notebook 07's
-stored run since 2026-12-05: ``--fast --trust-region ball --restoration least_change``).
+An interrupted run resumes from its checkpoint (default ``runs/benchmark_codesign_checkpoint.json``): the wall time
+reported is the sum over its iterations, whatever the sessions they ran in.
 
-Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--fast]
-                                   [--rule documented|matlab] [--trust-region box|ball] [--stop-after K] [--json PATH]
-                                   [--restoration minmax|least_change]
+Run: python benchmarks/codesign.py [--particles 24] [--iterations 20] [--workers N] [--checkpoint PATH] [--stop-after K]
+                                   [--json PATH]
      python benchmarks/codesign.py --report data/results/07_pso_checkpoint.json   # the timing of a run already made
-                                                                                  # (e.g. notebook 07's main job)
+                                                                                  # (notebook 07's main job)
 """
 
 from __future__ import annotations
@@ -37,50 +32,31 @@ from _machine import machine_info  # noqa: E402
 from trusscodesign import codesign  # noqa: E402
 
 
-def _suffix(fast: bool, rule: str, trust_region: str = "box", restoration: str = "minmax") -> str:
-    """Name suffix of the checkpoint and JSON of a run by the fast path, MATLAB's coded swarm rules, the ball trust
-    region and/or least-change restoration."""
-    return ("_fast" if fast else "") + ("_matlab_rule" if rule == "matlab" else "") + ("_ball" if trust_region == "ball" else "") \
-        + ("_least_change" if restoration == "least_change" else "")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--particles", type=int, default=24)
     parser.add_argument("--iterations", type=int, default=None, help="default 20 (with --report: the run's target, if known)")
     parser.add_argument("--workers", type=int, default=0)
     parser.add_argument("--seed", type=int, default=2026)
-    parser.add_argument("--checkpoint", default="", help="default runs/benchmark_codesign[_fast]_checkpoint.json")
-    parser.add_argument("--fast", action="store_true", help="the fast evaluation path in every synthesis (trusscodesign.modalloop)")
-    parser.add_argument("--rule", choices=["documented", "matlab"], default="documented",
-                        help="MATLAB particleswarm's adaptive rules as documented (default) or as its code applies them (trusscodesign.pso)")
+    parser.add_argument("--checkpoint", default="runs/benchmark_codesign_checkpoint.json")
     parser.add_argument("--stop-after", type=int, default=None,
                         help="stop after this many iterations in all (resume later with the same checkpoint)")
     parser.add_argument("--report", default="", help="report the timing stored in this checkpoint instead of running")
-    parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign[_fast].json;"
+    parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign.json;"
                         " give another path for a rerun that must not replace the stored one)")
-    parser.add_argument("--trust-region", choices=["box", "ball"], default="box",
-                        help="shape of every synthesis step (trusscodesign.synthesis.synthesize, trust_region; default the box)")
-    parser.add_argument("--restoration", choices=["minmax", "least_change"], default="minmax",
-                        help="the steps that restore stability (trusscodesign.synthesis.synthesize, restoration; default min-max)")
     args = parser.parse_args()
-    suffix = _suffix(args.fast, args.rule, args.trust_region, args.restoration)
-    checkpoint = args.checkpoint or f"runs/benchmark_codesign{suffix}_checkpoint.json"
-    options = codesign.synthesis_options(args.fast, args.trust_region, args.restoration)
     if args.report:
         from trusscodesign import pso
 
         state = pso.load_state(args.report)
-        run_options = state.extra.get("options") or {}
-        suffix = _suffix(bool(run_options.get("fast")), state.rule, run_options.get("trust_region", "box"),
-                         run_options.get("restoration", "minmax"))  # the run's, not the flags'
         n_workers = os.cpu_count()
         particles, iterations = len(state.x), state.iteration
     else:
         client = codesign.local_client(args.workers or None)
         n_workers = len(client.scheduler_info()["workers"])
-        state = codesign.run_codesign(args.particles, args.iterations or 20, (0.015, 0.03), args.seed, client, checkpoint,
-                                      synthesis_options=options, stop_after=args.stop_after, pso_rule=args.rule)
+        options = codesign.synthesis_options(True, "ball", "least_change")  # notebook 07's defaults
+        state = codesign.run_codesign(args.particles, args.iterations or 20, (0.015, 0.03), args.seed, client, args.checkpoint,
+                                      synthesis_options=options, stop_after=args.stop_after)
         client.close()
         particles, iterations = args.particles, state.iteration
     wall = float(sum(state.extra.get("iteration_wall_s", [np.nan])))  # over all iterations, resumed runs included
@@ -102,7 +78,7 @@ def main() -> None:
         "complete": iterations >= (args.iterations or 20) if not args.report or args.iterations else None,  # a checkpoint has no target
     }
     print(json.dumps(out, indent=2))
-    path = Path(args.json) if args.json else Path(__file__).parent / "results" / f"codesign{suffix}.json"
+    path = Path(args.json) if args.json else Path(__file__).parent / "results" / "codesign.json"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(out, indent=2) + "\n")
     print(f"saved {path}")

@@ -6,8 +6,8 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
 * one robust synthesis from all gains at -1 (the paper's cold start) at h = 2.139 cm;
 * one synthesis warm-started from the gain of a nearby h (2.0 cm -> 2.139 cm), and one warm-started from its gain and
   its final scenario set, with the co-design's stopping tolerance (as notebook 07 does);
-* warm starts from the co-design grid's design at 2.1 cm (gain and scenario set) to 2.11, 2.139 and 2.2 cm: how the
-  gain fares at the new h before any iteration, and the synthesis time;
+* warm starts from the stored co-design grid's design at 2.1 cm (``data/results/07_grid.json``, gain and scenario set)
+  to 2.11, 2.139 and 2.2 cm: how the gain fares at the new h before any iteration, and the synthesis time;
 * a warm start to 2.139 cm from a truss-tolerant design at 2.1 cm (synthesised with its truss moved by -2, -1, +1 and
   +2 %, which covers 2.139 cm = +1.86 %; notebook 06, section 8), against the grid design's warm start above, by the
   dense path and by the fast one, from its gain alone and from its gain and final scenario set (as a co-design does),
@@ -39,26 +39,19 @@ from trusscodesign import design, robustness  # noqa: E402
 from trusscodesign.closedloop import LoopSettings  # noqa: E402
 
 
-# the co-design grids: box-only (dense path, min-max restoration), ball with min-max restoration (stored 2026-12-04 to
-# 2026-12-05) and the stored one (ball, least-change restoration, since 2026-12-05)
-GRIDS = {"box": Path("data") / "results" / "box" / "07_grid.json",
-         "ball_minmax": Path("data") / "results" / "ball_minmax" / "07_grid.json",
-         "ball": Path("data") / "results" / "07_grid.json"}
+# the stored co-design grid (notebook 07: ball trust region, least-change restoration, fast path)
+GRID = Path("data") / "results" / "07_grid.json"
 
 
-def grid_design(h0: float, source: str = "box") -> tuple[dict, list]:
-    """The co-design grid's design at ``h0`` [m]: its record (gain, J_c, ...) and its final scenario set, the warm start a
-    co-design makes (notebook 07's Step 3). ``source``: the box-only grid (``data/results/box/07_grid.json``, default),
-    the ball grid with min-max restoration (``data/results/ball_minmax/07_grid.json``) or the stored co-design's, with
-    the ball and least-change restoration (``data/results/07_grid.json``)."""
+def grid_design(h0: float) -> tuple[dict, list]:
+    """The stored co-design grid's design at ``h0`` [m] (``data/results/07_grid.json``): its record (gain, J_c, ...)
+    and its final scenario set, the warm start a co-design makes (notebook 07's Step 3)."""
     from trusscodesign import synthesis
 
-    if source not in GRIDS:
-        raise ValueError(f"source must be one of {sorted(GRIDS)}, got {source!r}")
-    grid = json.loads((Path(__file__).parents[1] / GRIDS[source]).read_text())
+    grid = json.loads((Path(__file__).parents[1] / GRID).read_text())
     rec = next((r for r in grid["records"] if abs(r["h"] - h0) < 1e-9), None)
     if rec is None:
-        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid ({GRIDS[source]})")
+        raise ValueError(f"h0 = {h0} m is not a point of the stored co-design grid ({GRID})")
     return rec, [synthesis.Scenario.from_vector(v) for v in rec["scenarios"]]
 
 

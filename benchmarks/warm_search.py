@@ -1,4 +1,4 @@
-"""Benchmark: a cheaper worst-case search for warm starts (``fast_search``, ``search_max_evals``, ``max_unstable``).
+"""Benchmark: the warm-started synthesis (a co-design particle's), with notebook 07's options and with seven options added.
 
 A warm start from a neighbouring design takes 1-6 rounds, each ending with a dense worst-case search over the
 uncertainty box (90 grid candidates, then four Nelder-Mead refinements of up to 31 evaluations): 35-50 % of its time.
@@ -6,8 +6,8 @@ Three options of :func:`trusscodesign.synthesis.synthesize` make the search chea
 
 * ``fast_search``: the grid by the fast path, each grid plant's modal form kept from one search to the next; the best
   candidates and those found unstable evaluated again densely (the search's results stay the dense path's);
-* ``search_max_evals = 10``: shorter refinements (``benchmarks/search_refinement.py``: worst cases within 0.11 % (RPE)
-  and 0.91 % (effort) of 30's at 10 stored designs);
+* ``search_max_evals = 10``: shorter refinements (worst cases within 0.11 % (RPE) and 0.91 % (effort) of 30's at 10
+  stored designs; ``docs/experiments.md``);
 * ``max_unstable = 4``: a round adds up to four distinct unstable scenarios its search found, not one.
 
 and two make each evaluation cheaper (the same steps, to 1e-8 of the values or to the last bit):
@@ -23,10 +23,10 @@ and two stop the optimiser of a round sooner (fewer steps, a J_c a little higher
 * ``stall_steps = 3``: the stopping test over the last 3 accepted steps instead of 5.
 
 This script runs notebook 07's options (co-design tolerance, fast path, ball, least-change restoration) alone and
-with those options added in turn on the warm starts of ``benchmarks/restoration.py`` (the stored co-design grid's designs at 1.6,
-1.9, 2.1, 2.4 and 2.8 cm, gain and scenario set, to h + 0.39 mm, + 1 mm and + 3 mm) and the cold start at 2.139 cm,
-each synthesis alone on the machine with two threads (the synthesis issue's setting for its "under 10 s" and "under
-60 s"), the variants of a case one after the other. It records J_c, Z_c, validity, iterations, searches, the time
+with those options added in turn on 14 warm starts (the stored co-design grid's designs, ``data/results/07_grid.json``,
+at 1.6, 1.9, 2.1, 2.4 and 2.8 cm, gain and scenario set, to h + 0.39 mm, + 1 mm and + 3 mm; steps past 3 cm left out)
+and the cold start at 2.139 cm, each synthesis alone on the machine with two threads (the setting of the targets: a warm
+start under 10 s, a cold one under 60 s), the variants of a case one after the other. It records J_c, Z_c, validity, iterations, searches, the time
 and the time spent in the searches, and how much two threads, or a worker process and this one, speed up the
 optimiser's fast-path evaluations; prints a line per run and a summary, and saves benchmarks/results/warm_search.json.
 Run: python benchmarks/warm_search.py [--steps 0.00039 0.001 0.003] [--no-cold]
@@ -38,6 +38,7 @@ import argparse
 import json
 import os
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -45,13 +46,13 @@ import numpy as np
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from _machine import machine_info  # noqa: E402
-from restoration import cases, run_case, summary  # noqa: E402
 from robust_synthesis import grid_design  # noqa: E402
 from trusscodesign import codesign, design, synthesis  # noqa: E402
 from trusscodesign.closedloop import LoopSettings  # noqa: E402
 from trusscodesign.modalpool import shared_pool  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
+WARM_FROM = (0.016, 0.019, 0.021, 0.024, 0.028)
 STEPS = (0.00039, 0.001, 0.003)
 CHEAPER = {"fast_search": True, "search_max_evals": 10, "max_unstable": 4}
 VARIANTS: dict[str, dict] = {"reference": {},
@@ -62,6 +63,51 @@ VARIANTS: dict[str, dict] = {"reference": {},
                              "+ carried history, stall 3": {**CHEAPER, "peak_refine": "parabolic", "processes": True,
                                                             "carry_history": True, "stall_steps": 3}}
 COLD = (0.02139,)
+
+
+def cases(steps: Sequence[float] = STEPS) -> list[tuple[str, float, float]]:
+    """The warm starts: (name, h [m], grid point h0 [m] it starts from); steps past the design range (3 cm) left out."""
+    return [(f"warm {100 * h0:.1f} -> {100 * (h0 + dh):.3f} cm", h0 + dh, h0) for h0 in WARM_FROM for dh in steps
+            if h0 + dh <= 0.03 + 1e-12]
+
+
+def run_case(name: str, h: float, h0: float | None, options: dict, workers: int, **key) -> dict:
+    """One synthesis of a case (``h`` [m], warm-started from the stored grid's design at ``h0`` [m], its gain and
+    scenario set, or cold if None) with ``options`` for :func:`trusscodesign.design.robust_design` and ``workers``
+    threads, BLAS on one thread; its record: ``key`` (e.g. ``variant=...``), J_c, Z_c, validity, iterations, searches
+    and the synthesis's wall time [s] (the model's build left out)."""
+    from threadpoolctl import threadpool_limits
+
+    kw = dict(options)
+    if h0 is not None:
+        rec, scen = grid_design(h0)
+        kw.update(gain0=rec["gain"], scenarios=scen)
+    with threadpool_limits(1):
+        models = design.models_at(h)
+        t0 = time.perf_counter()
+        res = design.robust_design(models, LoopSettings.from_parameters(), workers=workers, **kw)
+        wall = time.perf_counter() - t0
+    return {"case": name, "h": h, "warm_from": h0, **key, "J_c": res.j_c, "Z_c": res.z_c, "success": res.success,
+            "message": res.message, "iterations": res.iterations, "searches": res.searches, "scenarios": len(res.scenarios),
+            "time_s": wall}
+
+
+def summary(rows: list[dict], key: str, variants: Sequence[str], warm: bool, iterations: bool = False) -> dict:
+    """Per variant (``row[key]``) over the warm (or cold) runs: valid runs, median and largest time, runs under 10 s,
+    median J_c of the valid ones, (with ``iterations``) median iterations, and median searches."""
+    out = {}
+    for variant in variants:
+        mine = [r for r in rows if r[key] == variant and (r["warm_from"] is not None) == warm]
+        if not mine:
+            continue
+        out[variant] = {"runs": len(mine), "valid": sum(r["success"] for r in mine),
+                        "median_time_s": float(np.median([r["time_s"] for r in mine])),
+                        "max_time_s": max(r["time_s"] for r in mine), "under_10_s": sum(r["time_s"] < 10.0 for r in mine),
+                        "median_J_c": float(np.median([r["J_c"] for r in mine if r["success"]] or [np.inf])),
+                        **({"median_iterations": float(np.median([r["iterations"] for r in mine]))} if iterations else {}),
+                        "median_searches": float(np.median([r["searches"] for r in mine]))}
+    return out
+
 
 
 def _run(name: str, h: float, h0: float | None, variant: str) -> dict:
@@ -97,7 +143,7 @@ def _thread_scaling(h: float = 0.02139, h0: float = 0.021, repeats: int = 10) ->
     from trusscodesign.modalloop import ModalLoop
 
     settings = LoopSettings.from_parameters()
-    rec, scen = grid_design(h0, "ball")
+    rec, scen = grid_design(h0)
     models = design.models_at(h)
     plants = [synthesis.plant_at(models.g_r, sc, models.inertia, settings) for sc in scen]
     forms = [ModalLoop.of(p) for p in plants]
@@ -134,7 +180,8 @@ def main() -> None:
     parser.add_argument("--steps", type=float, nargs="+", default=list(STEPS))
     parser.add_argument("--cold", action=argparse.BooleanOptionalAction, default=True)
     args = parser.parse_args()
-    todo = [c for c in cases(tuple(args.steps), False)] + ([(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if args.cold else [])
+    todo: list[tuple[str, float, float | None]] = [*cases(args.steps)]
+    todo += [(f"cold {100 * h:.3f} cm", h, None) for h in COLD] if args.cold else []
     rows = []
     for name, h, h0 in todo:
         for variant in VARIANTS:

@@ -1,0 +1,102 @@
+"""The table of benchmarks/README.md, generated from the stored results in benchmarks/results/.
+
+Each row quotes its benchmark's latest figures and the machine they ran on, as the result file records them, so the
+table cannot drift from the stored results.
+Run: python benchmarks/table.py [--check | --write]  (print the table; check or rewrite the one in benchmarks/README.md)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+START, END = "<!-- table:start -->", "<!-- table:end -->"
+
+
+def _load(name: str, results: Path) -> dict:
+    return json.loads((results / f"{name}.json").read_text())
+
+
+def _machine(m: dict) -> str:
+    """The machine as the result file records it (the older files record neither the CPU model nor, some, the cores)."""
+    parts = [m.get("cpu") or m.get("processor") or "CPU model not recorded", m.get("machine", "")]
+    parts.append(f"{m['cpus']} cores" if "cpus" in m else "cores not recorded")
+    return ", ".join(p for p in parts if p)
+
+
+def rows(results: Path = HERE / "results") -> list[tuple[str, str, str, str, str, str]]:
+    """``(benchmark, what it measures, command, latest figures, machine, target)`` per kept benchmark."""
+    b = _load("build_open_loop", results)
+    s = b["seconds"]
+    r = _load("robust_synthesis", results)
+    m = _load("mu_sweep", results)
+    c = _load("codesign", results)
+    w = _load("warm_search", results)
+    ref, all7 = w["summary"]["warm"]["reference"], w["summary"]["warm"]["+ carried history, stall 3"]
+    cold_ref, cold_all7 = w["summary"]["cold"]["reference"], w["summary"]["cold"]["+ carried history, stall 3"]
+    e = c["per_evaluation_s"]
+    return [
+        ("`build_open_loop.py`", "model build and reduction at one h", "`python benchmarks/build_open_loop.py`",
+         f"open loop G (order 1324) {s['open-loop G (order 1324)']['median']:.2f} s; G_r "
+         f"{s['G_r: slow poles + modes above 500 rad/s']['median']:.2f} s; the models of one design point "
+         f"(`design.models_at`, 2.14 cm) {s['design models at 2.14 cm (models_at)']['median']:.2f} s (medians of "
+         f"{max(1, b['repeat'] // 2)}-{b['repeat']} runs)", _machine(b["machine"]), "-"),
+        ("`robust_synthesis.py`", "one robust synthesis at 2.139 cm, cold and warm-started (library defaults); mu bounds "
+         "per panel angle", "`python benchmarks/robust_synthesis.py`",
+         f"cold {r['cold']['time_s']:.1f} s ({r['cold']['iterations']} iterations, J_c {r['cold']['J_c']:.4f}); warm from "
+         f"the 2.0 cm gain {r['warm_from_h_2.0cm']['time_s']:.1f} s, with its scenario set and the co-design's tolerance "
+         f"{r['warm_from_h_2.0cm_with_scenarios_codesign_tol']['time_s']:.1f} s; mu {r['mu_per_angle_s']:.1f} s per angle",
+         _machine(r["machine"]), "cold under 60 s"),
+        ("`warm_search.py`", "the co-design's warm starts: 14 from the stored grid's designs to a nearby h, and the cold "
+         "start at 2.139 cm, each alone with two threads; notebook 07's options, then seven options added in turn",
+         "`python benchmarks/warm_search.py`",
+         f"notebook 07's options: median {ref['median_time_s']:.1f} s (max {ref['max_time_s']:.1f} s), "
+         f"{ref['under_10_s']} of {ref['runs']} under 10 s, {ref['valid']} valid; all seven options: median "
+         f"{all7['median_time_s']:.1f} s (max {all7['max_time_s']:.1f} s), {all7['under_10_s']} of {all7['runs']} under "
+         f"10 s, {all7['valid']} valid; cold {cold_ref['median_time_s']:.1f} s and {cold_all7['median_time_s']:.1f} s",
+         _machine(w["machine"]), "warm start under 10 s"),
+        ("`mu_sweep.py`", "notebook 08's mu sweep (50 panel angles) in one process and on Dask workers",
+         "`python benchmarks/mu_sweep.py`",
+         f"{m['in_process_s']:.1f} s in one process, {m['dask_s']:.1f} s on {m['workers']} workers "
+         f"(x{m['speed_up']:.2f}); largest gap between the bounds {100 * m['largest_gap']:.3f} % (design of notebook "
+         f"{m['design']['source']} at h = {100 * m['design']['h']:.3f} cm)", _machine(m["machine"]), "under 10 min"),
+        ("`codesign.py`", "the paper-setting co-design (24 particles x 20 iterations) with notebook 07's options",
+         "`python benchmarks/codesign.py` (or `--report data/results/07_pso_checkpoint.json` for a run already made)",
+         f"{c['wall_time_min']:.1f} min on {c['workers']} workers; per evaluation: assembly {e['assembly']:.2f} s, "
+         f"reduction {e['reduction']:.1f} s, synthesis {e['synthesis']:.1f} s; best h = {100 * c['best']['h']:.3f} cm, "
+         f"J_c {c['best']['J_c']:.4f}", _machine(c["machine"]), "under 60 min (goal: 20 min; the paper: 11 h 16 min on 24 cores)"),
+    ]
+
+
+def markdown(results: Path = HERE / "results") -> str:
+    """The table as Markdown (no trailing newline)."""
+    lines = ["| benchmark | what it measures | command | latest figures | machine | target |", "|---|---|---|---|---|---|"]
+    lines += ["| " + " | ".join(row) + " |" for row in rows(results)]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--check", action="store_true", help="fail if benchmarks/README.md's table is not this output")
+    group.add_argument("--write", action="store_true", help="rewrite benchmarks/README.md's table")
+    args = parser.parse_args()
+    table = markdown()
+    if not (args.check or args.write):
+        print(table)
+        return
+    readme = HERE / "README.md"
+    text = readme.read_text()
+    head, rest = text.split(START, 1)
+    tail = rest.split(END, 1)[1]
+    if args.write:
+        readme.write_text(head + START + "\n" + table + "\n" + END + tail)
+    elif rest.split(END, 1)[0] != "\n" + table + "\n":
+        sys.exit("benchmarks/README.md's table is stale: run python benchmarks/table.py --write")
+
+
+if __name__ == "__main__":
+    main()
