@@ -38,7 +38,7 @@ def test_peaks_against_exact_norms(plant):
     """Peak-aware grid + nested-grid refinement = Hamiltonian norm = SLICOT ab13dd (to 1e-4 at worst, as required)."""
     lp = synthesis.loop_peaks(plant, GAIN)
     exact = synthesis.exact_norms(plant, GAIN)
-    a, b, c, d = plant.closed_loop(GAIN)
+    a, b, c, d = plant.closed_loop_matrices(GAIN)
     sl = plant.slices()
     for group in ("rpe", "effort"):
         norm, omega, certified = exact[group]
@@ -123,7 +123,7 @@ def test_parabolic_peaks_equal_the_zoomed_ones_on_the_spacecraft(model, inertia,
 
 def test_plain_grid_misses_the_peak(plant):
     """Why the peak-aware grid: a 2000-point log grid underestimates the closed-loop RPE norm."""
-    a, b, c, d = plant.closed_loop(GAIN)
+    a, b, c, d = plant.closed_loop_matrices(GAIN)
     sl = plant.slices()
     from trusscodesign.hinf import sigma_max
 
@@ -829,7 +829,7 @@ def test_stabilise_restores_a_warm_start_that_is_unstable_at_the_new_h(model, in
     # every pole of the returned loops is stable with a damping of at least the required 2e-4 (capped at half the
     # plant's passive damping, loop_peaks): checked on the dense closed loops, independently of the LP's rows
     for p in plants:
-        lam = np.linalg.eigvals(p.closed_loop(end.gain)[0])
+        lam = np.linalg.eigvals(p.closed_loop_matrices(end.gain)[0])
         zeta_req = min(2e-4, 0.5 * p.passive_damping())
         assert np.max(lam.real + zeta_req * np.abs(lam)) < -1e-7
     assert np.isclose(prob.evaluate_all(end.gain, dense=True).abscissa(), end.abscissa(), rtol=1e-9, atol=1e-12)
@@ -912,7 +912,7 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
         assert all(e[group][2] for e in exact)
         assert max(e[group][0] for e in exact) == pytest.approx(end.value(group), rel=1e-4)
         for p, e, lp in zip(plants, exact, end.peaks):
-            a, b, c, d = p.closed_loop(end.gain)
+            a, b, c, d = p.closed_loop_matrices(end.gain)
             sl = p.slices()
             w = e[group][1]
             t = d[sl[group], sl["p"]] + c[sl[group]] @ np.linalg.solve(1j * w * np.eye(a.shape[0]) - a, b[:, sl["p"]])
