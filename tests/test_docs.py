@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # Spelled in pieces so that this file does not match itself.
 OUTSIDE = ("shared" + "/docs", "shared" + "/paper", ".." + "/shared")
 CITING = ("lib/", "notebooks/", "tests/", "scripts/", "README.md")
-# A docs page cited from the root (docs/x.md) or from a folder below it (../docs/x.md); not a URL or another
+# A docs page cited from the root (docs/ then the page) or from a folder below it (../docs/ then the page); not a URL or another
 # project's docs/ folder (anything glued to the front, such as a path segment, is excluded).
 DOC_REF = re.compile(r"(?<![\w/.-])(?:\.\./)*docs/([\w-]+\.md)")
 

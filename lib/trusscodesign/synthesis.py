@@ -900,7 +900,7 @@ def _linearise(plants, state: _State, group: str, band: float,
 
 
 # radius of the ball of trust_region="ball", in units of the box's per-entry radii and of sqrt(n): halfway from the
-# box's inscribed ball (1) to its corners (sqrt(n)). The first and only value tried (benchmarks/trust_region.py)
+# box's inscribed ball (1) to its corners (sqrt(n)). The first and only value tried (docs/experiments.md)
 _BALL = 0.5
 # trust_region="bfgs": a pair (s, y) updates the metric only if s.y > _CURVATURE |s| |y| (an angle below 89.99 deg)
 _CURVATURE = 1e-4
@@ -915,8 +915,7 @@ class _Metric:
     once in a warm start) the change is that of the active combination, not of whichever peak happens to be the largest
     (in the spirit of BFGS on nonsmooth functions, Lewis and Overton 2013, HIFOO's method, which takes the gradient at
     the point and a line search; here the multipliers are those of the trust-region step, so ``y`` also carries changes
-    of the active peaks). Measured (``benchmarks/trust_metric.py`` on an earlier version, ``trust_metric_75b76d0.json``
-    and the development run ``trust_metric_top_peak_dev.json``): with the largest peak's gradient alone the 14 warm
+    of the active peaks). Measured (``docs/experiments.md``, on an earlier version): with the largest peak's gradient alone the 14 warm
     starts took a median of 45.5 steps, with the weighted subgradient 37.5 (the ball 54.5).
 
     The step's region is then ``||M u|| <= rho`` with ``M^T M`` = ``B`` with its condition number capped at ``kappa``
@@ -1154,11 +1153,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         stored result) or that box intersected with the ball ``||d / r||_2 <= sqrt(32) / 2`` (a second-order cone program,
         Clarabel), or (``"bfgs"``) that ball in the norm of a BFGS estimate of J's curvature learnt over the accepted steps
         of each optimisation, the box widened to match (:class:`_Metric`; the stabilisation, feasibility-phase and
-        least-change steps keep the ball). Measured (``benchmarks/trust_metric.py``, README): no systematic gain on 14
+        least-change steps keep the ball). Measured (``docs/experiments.md``): no systematic gain on 14
         warm starts (median 19.5 s against 20.4 s, J_c -4.7 to +11.5 %), and from all gains at -1 at 1.5 cm it stops on
         a plateau at J_c 0.18; no stored result uses it. In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
         of the 32 entries on its faces) while 6-10 pole-damping rows are active, and the synthesis can crawl for dozens
-        of steps and stop on that plateau (``benchmarks/thin_end_plateau.py``). Measured (``benchmarks/trust_region.py``,
+        of steps and stop on that plateau (``docs/experiments.md``). Measured (``docs/experiments.md``,
         fast path, 8 cases): the ball takes the two such stalls (J_c 0.164 at 1.5 cm with ``tol = 0.01``, 0.181 at
         1.6 cm with 2e-3) and the 0.041 of 1.5 cm with 2e-3 to J_c 0.020-0.021; in the other cold starts its J_c is
         3.6 % lower to 5.2 % higher than the box's; warm starts take fewer iterations (25-31 against 44-51) and end 1.6
@@ -1170,8 +1169,8 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         the smallest step (:func:`_least_change`, inside the trust region) whose linearised margins pass their targets by
         a quarter of their violation, then whose effort peaks reach ``gamma_u (1 - margin)`` (this phase lasting until
         ``Z < gamma_u (1 - margin / 2)``); the min-max step where no such step fits in the region, and for the rest of a
-        stabilisation once a least-change trial has failed (``benchmarks/restoration.py``). Measured
-        (``benchmarks/warm_start.py``): one min-max step that stabilised a scenario the search added (abscissa 2.7e-3 to
+        stabilisation once a least-change trial has failed (``docs/experiments.md``). Measured
+        (``docs/experiments.md``): one min-max step that stabilised a scenario the search added (abscissa 2.7e-3 to
         -5.0e-3 1/s, 5e4 times the required margin) took J from 0.018 to 0.071 and Z to 1.09, and the synthesis ended
         not converged with J_c 0.12 after 6 rounds.
     max_unstable : int
@@ -1185,9 +1184,9 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         the fast path's accuracy in near ties). Default False (every stored result).
     search_max_evals : int
         Nelder-Mead evaluations per refinement of the worst-case search (``max_evals`` of :func:`worst_case`; default
-        30, every stored result). Measured on 10 stored designs (``benchmarks/search_refinement.py``): 10 evaluations
+        30, every stored result). Measured on 10 stored designs (``docs/experiments.md``): 10 evaluations
         leave the worst cases within 0.11 % (RPE) and 0.91 % (effort) of 30's.
-        These three options and their effect on warm starts: ``benchmarks/warm_search.py`` (README).
+        These three options and their effect on warm starts: ``benchmarks/warm_search.py``.
     peak_refine : {"zoom", "parabolic"}
         How every evaluation of the synthesis (optimiser, searches, final) refines its peaks: ``peak_refine`` of
         :func:`loop_peaks` (default "zoom", every stored result; "parabolic" takes 8 points per peak instead of 85).
@@ -1210,7 +1209,7 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         approximate the smaller set's optimum, a lower bound of the new set's, so little is lost; a J below them (a
         stabilisation that lowered it) counts as progress and keeps the test going. Default False (every stored
         result).
-        These two options and their effect on warm starts: ``benchmarks/warm_search.py`` (README).
+        These two options and their effect on warm starts: ``benchmarks/warm_search.py``.
     """
     t0 = time.perf_counter()
     _check_scalar_options(min_damping=min_damping, omega_check=omega_check, min_damping_all=min_damping_all,
