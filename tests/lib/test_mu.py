@@ -1,7 +1,5 @@
 """Worst-case gain bounds (trusscodesign.mu) against direct evaluation and dense brute force over the delta box."""
 
-import time
-
 import numpy as np
 import pytest
 
@@ -221,26 +219,19 @@ def test_errors():
 
 
 @pytest.mark.parametrize("n_e", [2, 4])
-def test_timing_application_size(n_e):
-    """The application's structure [(M_SC, 3), (Iyy, 1), (omega1, 4)], 2 performance inputs: 10x10 and 12x10."""
+def test_application_size_bounds_are_consistent(n_e):
+    """The application's structure [(M_SC, 3), (Iyy, 1), (omega1, 4)], 2 performance inputs: 10x10 and 12x10. Every
+    upper bound of a sweep is solved, and the lower bound stays below the upper bound at its frequency (the sweep's
+    time is the benchmark's, benchmarks/mu_sweep.py)."""
     rng = np.random.default_rng(40 + n_e)
     sizes = (("M_SC", 3), ("Iyy", 1), ("omega1", 4))
     ss = lft_ss(rng, (3, 1, 4), n_e, 2, n_modes=4)
     omegas = np.logspace(-0.5, 1.0, 12)
-    t0 = time.perf_counter()
-    mu.wc_gain_upper(freq_resp(ss, 1.0), sizes)  # first call: builds the cvxpy problem for this structure
-    t_first = time.perf_counter() - t0
-    t0 = time.perf_counter()
     sweep = mu.wc_gain_upper_sweep(lambda w: freq_resp(ss, w), omegas, sizes)
-    t_per = (time.perf_counter() - t0) / len(omegas)
     lb = mu.wc_gain_lower(lambda w: freq_resp(ss, w), sizes, omegas, rng=0)
     ub_star = mu.wc_gain_upper(freq_resp(ss, lb.omega), sizes)
-    print(f"\n{8 + n_e}x10: first call {t_first * 1e3:.0f} ms, then {t_per * 1e3:.1f} ms per frequency; "
-          f"statuses {set(sweep.statuses)}; lower {lb.gain:.5g} at {lb.omega:.4g} rad/s ({lb.evaluations} evaluations), "
-          f"upper there {ub_star.beta:.5g} (ratio {ub_star.beta / lb.gain:.4f})")
     assert all(s.startswith("optimal") for s in sweep.statuses) and np.all(np.isfinite(sweep.betas))
     assert lb.gain <= ub_star.beta * (1 + 1e-9)
-    assert t_per < 0.5  # target 0.1 s; loose against slow CI machines
 
 
 def test_recentre_maps_a_sub_box_to_the_unit_box():
