@@ -9,10 +9,13 @@
 # the notebook chain, 07 then 08 (08 analyses the design that 07 stores in build/smoke/results), the longest part;
 # the second runs the unit tests and the other notebooks. pytest runs the files of one process in the order given on
 # its command line, each notebook's cells in order in one kernel: nothing here rests on how a plugin distributes
-# tests. Extra arguments go to both processes (e.g. -x, -k). The last line sums up both runs.
+# tests. Extra arguments go to both processes (e.g. -x, or -k NAME: a process that then selects no test counts as
+# passed). The last line sums up both runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
+workers="${TEST_WORKERS:-2}"
+case "$workers" in 1|2) ;; *) echo "TEST_WORKERS must be 1 (one process) or 2 (two, the default), got '$workers'" >&2; exit 2 ;; esac
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
 # the kernels and tests import this checkout's package, whatever checkout is installed in editable mode
 export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
@@ -29,18 +32,38 @@ for nb in notebooks/[0-9][0-9]_*.ipynb; do
   "$PY" -m papermill --log-level WARNING --prepare-only "$nb" "build/smoke/$name.ipynb" "${args[@]}"
   case "$name" in 07_*|08_*) chain+=("build/smoke/$name.ipynb") ;; *) others+=("build/smoke/$name.ipynb") ;; esac
 done
-pytest=("$PY" -m pytest --nbval-lax --nbval-current-env -p no:cacheprovider)
-if [ "${TEST_WORKERS:-2}" = 1 ]; then
+# (-p no:randomly: a test-order plugin left in a reused environment must not reorder the chain)
+pytest=("$PY" -m pytest --nbval-lax --nbval-current-env -p no:cacheprovider -p no:randomly)
+
+# run NAME ARGS...: one pytest process, its report in build/test-logs/NAME.xml; prints "NAME STATUS" for the summary
+# (status 5, nothing selected, counts as passed when the caller gave arguments such as -k)
+status() { local rc=$1; if [ "$rc" = 5 ] && [ "$nargs" -gt 0 ]; then echo 0; else echo "$rc"; fi; }
+nargs=$#
+reports=()
+if [ "$workers" = 1 ]; then
   "${pytest[@]}" --junitxml=build/test-logs/all.xml tests "${chain[@]}" "${others[@]}" "$@" && rc=0 || rc=$?
+  rc="$(status "$rc")"; reports+=("all=build/test-logs/all.xml=$rc")
 else
-  "${pytest[@]}" --junitxml=build/test-logs/chain.xml "${chain[@]}" "$@" > build/test-logs/chain.log 2>&1 &
-  chain_pid=$!
-  echo "notebooks ${chain[*]##*/} run in a second process (log: build/test-logs/chain.log)"
+  chain_rc=0
+  if [ ${#chain[@]} -gt 0 ]; then
+    # its own session, so that an interrupted run also ends its kernels and Dask workers
+    own_session=(); ! command -v setsid >/dev/null || own_session=(setsid -w)
+    ${own_session[@]+"${own_session[@]}"} "${pytest[@]}" --junitxml=build/test-logs/chain.xml "${chain[@]}" "$@" \
+      > build/test-logs/chain.log 2>&1 &
+    chain_pid=$!
+    trap 'kill -- -"$chain_pid" 2>/dev/null || true' EXIT INT TERM
+    echo "notebooks ${chain[*]##*/} run in a second process (log: build/test-logs/chain.log)"
+  fi
   "${pytest[@]}" --junitxml=build/test-logs/main.xml tests "${others[@]}" "$@" && rc=0 || rc=$?
-  wait "$chain_pid" && chain_rc=0 || chain_rc=$?
-  echo "== the notebook chain (${chain[*]##*/}), exit status $chain_rc:"
-  tail -n 40 build/test-logs/chain.log
-  [ "$chain_rc" = 0 ] || rc=$chain_rc
+  rc="$(status "$rc")"; reports+=("main=build/test-logs/main.xml=$rc")
+  if [ ${#chain[@]} -gt 0 ]; then
+    wait "$chain_pid" && chain_rc=0 || chain_rc=$?
+    trap - EXIT INT TERM
+    chain_rc="$(status "$chain_rc")"; reports+=("chain=build/test-logs/chain.xml=$chain_rc")
+    echo "== the notebook chain (${chain[*]##*/}), exit status $chain_rc:"
+    cat build/test-logs/chain.log
+  fi
+  [ "$chain_rc" = 0 ] || [ "$rc" != 0 ] || rc=$chain_rc
 fi
-"$PY" scripts/test_summary.py build/test-logs/*.xml
+"$PY" scripts/test_summary.py "${reports[@]}" || true
 exit "$rc"

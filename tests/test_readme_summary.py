@@ -60,3 +60,13 @@ def test_summary_follows_the_results_files(tmp_path: Path) -> None:
     (tmp_path / "data" / "results" / "08_worst_case_mu.json").unlink()
     with pytest.raises(FileNotFoundError, match="run notebook 08"):
         summary.markdown(tmp_path)
+
+
+def test_readme_is_for_users_not_a_log() -> None:
+    """Under 200 lines, with no commit ids and no dates (history is git's; measurements are the benchmarks' and docs')."""
+    import re
+
+    readme = (ROOT / "README.md").read_text()
+    assert len(readme.splitlines()) < 200
+    assert not re.search(r"\b20\d\d-\d\d-\d\d\b", readme)
+    assert not re.search(r"\b(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}\b", readme)

@@ -56,7 +56,7 @@ def test_missing_params_file_is_refused_before_any_notebook(tmp_path: Path) -> N
 
 
 def test_notebooks_import_the_library_of_this_checkout(tmp_path: Path) -> None:
-    # papermill runs the kernel in notebooks/: "import lib" must find this checkout's lib (whose paths.ROOT decides
+    # papermill runs the kernel in notebooks/: "import trusscodesign" must find this checkout's package (whose paths.ROOT decides
     # where figures and results go), not whichever checkout was last installed in editable mode
     roots = tmp_path / "roots.txt"
     import sys
@@ -148,12 +148,36 @@ def test_pytest_runs_notebooks_in_the_order_given(tmp_path: Path) -> None:
     assert "2 passed" in run.stdout
 
 
-def test_the_summary_line_adds_up_both_reports(tmp_path: Path) -> None:
+def _summary(tmp_path: Path, *runs: str) -> subprocess.CompletedProcess:
     import sys
 
+    return subprocess.run([sys.executable, str(ROOT / "scripts" / "test_summary.py"), *runs], cwd=tmp_path,
+                          capture_output=True, text=True)
+
+
+def test_the_summary_line_adds_up_both_reports(tmp_path: Path) -> None:
     for name, (tests, failures, errors, skipped) in {"a": (10, 1, 0, 2), "b": (5, 0, 1, 0)}.items():
         (tmp_path / f"{name}.xml").write_text(f'<testsuites><testsuite tests="{tests}" failures="{failures}" errors="{errors}" '
                                               f'skipped="{skipped}"/></testsuites>')
-    run = subprocess.run([sys.executable, str(ROOT / "scripts" / "test_summary.py"), str(tmp_path / "a.xml"), str(tmp_path / "b.xml")],
-                         capture_output=True, text=True)
-    assert run.stdout.strip() == "total: 11 passed, 2 failed, 2 skipped" and run.returncode == 0
+    run = _summary(tmp_path, "a=a.xml=1", "b=b.xml=1")
+    assert run.stdout.strip() == "total: 11 passed, 2 failed, 2 skipped" and run.returncode == 1
+    (tmp_path / "c.xml").write_text('<testsuites><testsuite tests="3" failures="0" errors="0" skipped="0"/></testsuites>')
+    assert _summary(tmp_path, "c=c.xml=0").stdout.strip() == "total: 3 passed, 0 failed, 0 skipped"
+
+
+def test_the_summary_line_is_never_green_for_a_run_that_did_not_pass(tmp_path: Path) -> None:
+    """A process killed before it wrote its report, or one that exited non-zero with a clean report (interrupted,
+    usage error), is named and counted as a failure."""
+    (tmp_path / "main.xml").write_text('<testsuites><testsuite tests="10" failures="0" errors="0" skipped="0"/></testsuites>')
+    run = _summary(tmp_path, "main=main.xml=0", "chain=chain.xml=137")
+    assert "chain: no readable report" in run.stdout and "exit status 137" in run.stdout
+    assert run.stdout.splitlines()[-1] == "total: 10 passed, 1 failed, 0 skipped" and run.returncode == 1
+    run = _summary(tmp_path, "main=main.xml=2")
+    assert "main: exit status 2" in run.stdout and run.stdout.splitlines()[-1] == "total: 10 passed, 1 failed, 0 skipped"
+
+
+def test_the_test_command_refuses_an_unknown_worker_count(tmp_path: Path) -> None:
+    env = _fake(tmp_path, "exit 0\n")
+    env["TEST_WORKERS"] = "4"
+    run = subprocess.run(["bash", "scripts/test.sh"], cwd=ROOT, env=env, capture_output=True, text=True)
+    assert run.returncode == 2 and "TEST_WORKERS must be 1" in run.stderr

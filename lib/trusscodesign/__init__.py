@@ -14,4 +14,14 @@ angle), ``pso`` and ``codesign`` (the particle-swarm co-design), ``timedomain`` 
 ``checks``, ``paths``, ``plotting``, ``results``.
 """
 
-__version__ = "0.1.0"
+import logging
+from importlib.metadata import PackageNotFoundError, version
+
+# the library reports progress through logging (the synthesis: a line per round at INFO); silent unless the user
+# configures logging, e.g. logging.basicConfig(level=logging.INFO)
+logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+try:
+    __version__ = version("trusscodesign")  # one version, pyproject.toml's
+except PackageNotFoundError:  # run from a checkout on the path without being installed
+    __version__ = "unknown"

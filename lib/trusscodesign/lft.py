@@ -162,7 +162,12 @@ class LFT:
     @classmethod
     def from_ss(cls, system: ArrayLike | ct.StateSpace, b: ArrayLike | None = None, c: ArrayLike | None = None,
                 d: ArrayLike | None = None) -> "LFT":
-        """A certain system, from a continuous-time ``control.StateSpace`` alone or from its four matrices."""
+        """A certain system, from a continuous-time ``control.StateSpace`` alone or from its four matrices.
+
+        Every input and output of ``system`` becomes an io channel: the Delta channels of a model made by
+        :meth:`to_ss` come back as ordinary inputs and outputs (the structure is in ``blocks`` and ``params``, which a
+        StateSpace does not carry; keep the LFT itself to keep them).
+        """
         return cls(*ss_matrices(system, b, c, d, name="LFT.from_ss"))
 
     @classmethod

@@ -92,6 +92,8 @@ def ss_matrices(system: ArrayLike | ct.StateSpace, b: ArrayLike | None = None, c
     ValueError
         A discrete-time system, or matrices given only in part.
     """
+    if isinstance(system, ct.LTI) and not isinstance(system, ct.StateSpace):
+        raise ValueError(f"{name}: got a {type(system).__name__}; convert it first with control.ss(...)")
     if isinstance(system, ct.StateSpace):
         if b is not None or c is not None or d is not None:
             raise ValueError(f"{name}: give a control.StateSpace alone, or the four matrices A, B, C, D")

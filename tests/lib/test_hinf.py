@@ -367,3 +367,10 @@ def test_a_statespace_gives_the_same_norm_as_its_matrices():
         hinf_norm(ct.ss(*sys_, dt=0.01))
     with pytest.raises(ValueError, match="A, B, C, D"):
         hinf_norm(sys_[0])
+
+
+def test_a_transfer_function_is_refused_with_the_conversion_to_use():
+    import control as ct
+
+    with pytest.raises(ValueError, match=r"TransferFunction.*control\.ss"):
+        hinf_norm(ct.tf([1.0], [1.0, 1.0]))

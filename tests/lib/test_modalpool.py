@@ -1,4 +1,4 @@
-"""Worker processes for the fast path (lib/modalpool.py): the same values as in this process, to the last bit, errors
+"""Worker processes for the fast path (trusscodesign.modalpool): the same values as in this process, to the last bit, errors
 carried back with their traceback, and the synthesis's optimiser taking the same steps on processes as on threads."""
 
 import numpy as np
