@@ -25,7 +25,6 @@ MATLAB run draw for draw.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -200,9 +199,9 @@ def save_state(state: SwarmState, path: str | Path) -> Path:
 def load_state(path: str | Path) -> SwarmState:
     """Read a state written by :func:`save_state` (non-finite values in the history restored as floats; a checkpoint
     written before the rules were selectable has the documented ones)."""
-    from .results import from_jsonable
+    from .results import from_jsonable, read_json
 
-    d = json.loads(Path(path).read_text())
+    d = read_json(path)
     arr = lambda k: np.array(d[k], dtype=float)  # noqa: E731
     p_f = np.array([np.inf if v is None else v for v in d["p_f"]], dtype=float)
     rng = d["rng"]

@@ -6,6 +6,7 @@ import dataclasses
 import json
 import os
 import platform
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -14,7 +15,7 @@ import numpy as np
 from . import __version__
 from .paths import resolve
 
-__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_keyed", "normalise_key", "save_results", "load_results"]
+__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_json", "read_keyed", "normalise_key", "save_results", "load_results"]
 
 
 def to_jsonable(value: Any) -> Any:
@@ -61,14 +62,42 @@ def from_jsonable(value: Any) -> Any:
 
 
 def write_json(path: str | Path, payload: Any, indent: int | None = None) -> Path:
-    """Write ``to_jsonable(payload)`` to ``path`` atomically: a crash while writing leaves the previous file intact."""
+    """Write ``to_jsonable(payload)`` to ``path`` atomically: a crash while writing leaves the previous file intact.
+
+    The text goes to a temporary file of a unique name in the same folder, flushed to disk, then renamed over
+    ``path``: writers that share a folder never write into one another's temporary file, and a reader sees the old
+    file or the new one, never a part.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(path.suffix + ".tmp")
     text = json.dumps(to_jsonable(payload), indent=indent, allow_nan=False)
-    tmp.write_text(text + "\n" if indent is not None else text)
-    os.replace(tmp, path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text + "\n" if indent is not None else text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
     return path
+
+
+def read_json(path: str | Path) -> Any:
+    """The JSON value of the file at ``path`` (as written, see :func:`from_jsonable` for the non-finite floats).
+
+    Raises
+    ------
+    ValueError
+        The file is not valid JSON (e.g. truncated by a copy or an edit): the message names the file and the place.
+    """
+    path = Path(path)
+    try:
+        return json.loads(path.read_text())
+    except json.JSONDecodeError as err:
+        raise ValueError(f"{path} is not valid JSON ({err.msg} at line {err.lineno}, column {err.colno}): the file is "
+                         "damaged or truncated; restore it (git checkout, a backup) or delete it to recompute") from err
 
 
 def read_keyed(path: str | Path | None, key: Any) -> tuple[dict | None, Any]:
@@ -79,7 +108,7 @@ def read_keyed(path: str | Path | None, key: Any) -> tuple[dict | None, Any]:
     never reused. Objects JSON cannot hold are keyed by their ``str`` (give arrays as lists)."""
     key = normalise_key(key)
     if path is not None and Path(path).exists():
-        raw = json.loads(Path(path).read_text())
+        raw = read_json(path)
         # compared as written (non-finite floats as strings), so that NaN matches NaN
         if isinstance(raw, dict) and raw.get("key") == key:
             return from_jsonable(raw), key
@@ -120,4 +149,4 @@ def load_results(name: str, results_dir: str | Path = "data/results") -> dict[st
     path = resolve(results_dir, create=False) / f"{name}.json"
     if not path.exists():
         raise FileNotFoundError(f"no results file {path}: run notebook {name} first")
-    return from_jsonable(json.loads(path.read_text()))
+    return from_jsonable(read_json(path))

@@ -180,3 +180,44 @@ def test_design_models_give_g_r_as_a_named_statespace(model) -> None:
     assert g.input_labels[nd:] == spacecraft.INPUTS and g.output_labels[nd:] == spacecraft.OUTPUTS
     assert all(label.startswith("w_") for label in g.input_labels[:nd]) and g.nstates == model.nstates
     np.testing.assert_array_equal(g.D, model.d)
+
+
+def _hammer(path: str, writer: int, n: int) -> int:
+    """Write ``n`` payloads to ``path`` (one process of the concurrency test); returns the failures."""
+    failures = 0
+    for i in range(n):
+        try:
+            results.write_json(path, {"writer": writer, "i": i, "pad": list(range(200))})
+        except OSError:
+            failures += 1
+    return failures
+
+
+def test_concurrent_writers_of_one_file_lose_nothing(tmp_path: pathlib.Path) -> None:
+    """Four processes write one file 2000 times in all while this one reads it: no writer fails (a shared temporary
+    name made some rename a file another writer had already moved), every read is a whole file, no temporary is left."""
+    import multiprocessing as mp
+
+    path = tmp_path / "shared.json"
+    results.write_json(path, {"writer": -1, "i": 0, "pad": []})
+    ctx = mp.get_context("fork")
+    with ctx.Pool(4) as pool:
+        pending = pool.starmap_async(_hammer, [(str(path), w, 500) for w in range(4)])
+        reads = 0
+        while not pending.ready():
+            assert set(json.loads(path.read_text())) == {"writer", "i", "pad"}
+            reads += 1
+        assert pending.get() == [0, 0, 0, 0]
+    assert reads > 0 and sorted(p.name for p in tmp_path.iterdir()) == ["shared.json"]
+
+
+def test_a_truncated_checkpoint_names_the_file(tmp_path: pathlib.Path) -> None:
+    from trusscodesign import pso
+
+    path = tmp_path / "07_pso_checkpoint.json"
+    results.write_json(path, {"iteration": 3, "x": [1.0, 2.0, 3.0]})
+    path.write_text(path.read_text()[:20])
+    with pytest.raises(ValueError, match=r"07_pso_checkpoint\.json is not valid JSON.*truncated"):
+        pso.load_state(path)
+    with pytest.raises(ValueError, match=r"07_pso_checkpoint\.json is not valid JSON"):
+        results.read_keyed(path, {"a": 1})
