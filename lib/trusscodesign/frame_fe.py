@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
 from . import frames
-from .checks import check_members
+from .checks import check_members, check_option
 from .titop import Section
 
 __all__ = ["FrameModel", "element_matrices", "build_frame", "FrameModes"]
@@ -34,7 +34,8 @@ def element_matrices(length: float, s: Section, mass: str = "consistent") -> tup
     """
     if mass not in ("consistent", "lumped"):
         raise ValueError(f"mass must be 'consistent' or 'lumped', got {mass!r}")
-    ell = length
+    check_option("length [m] (of the element)", length, 0.0, open_low=True, open_high=True)
+    ell = float(length)
     e, g = s.young, s.shear_modulus
     k = np.zeros((12, 12))
     bar = np.array([[1.0, -1.0], [-1.0, 1.0]])

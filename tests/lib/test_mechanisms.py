@@ -154,3 +154,12 @@ def test_frame_fe_rigid_mass_of_a_beam_is_that_of_the_homogeneous_rod(mass):
     assert np.isclose(rigid[3, 3], SEC0.density * SEC0.polar * length, rtol=1e-12)
     if mass == "consistent":
         np.testing.assert_allclose(np.diag(rigid)[4:], m * length**2 / 3, rtol=1e-12)
+
+
+@pytest.mark.parametrize("length", [-1.0, 0.0, float("nan"), float("inf")])
+def test_frame_element_refuses_a_length_that_is_not_positive(length):
+    """A negative element length gave negative stiffness and mass without a word."""
+    from trusscodesign import frame_fe, titop
+
+    with pytest.raises(ValueError, match=r"length \[m\] \(of the element\) must be a number in \(0, inf\)"):
+        frame_fe.element_matrices(length, titop.Section.square(0.03))
