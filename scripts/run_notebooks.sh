@@ -7,10 +7,11 @@
 #
 # Executed copies go to <out>/notebooks (default runs/latest), each with an HTML copy beside it. With --out, figures and
 # results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched.
-# --params takes a YAML file of parameters applied to every notebook (unknown names
-# are ignored by the notebooks that do not declare them), or a folder: its all.yaml (if any)
+# --params takes a YAML file of parameters applied to every notebook (each name must be declared by at least one
+# notebook; the others ignore it), or a folder: its all.yaml (if any)
 # applies to every notebook, then NN_name.yaml (if any) to that notebook alone, overriding
-# all.yaml (the layout of tests/smoke/). Several notebooks share parameter names with
+# all.yaml (the layout of tests/smoke/); a per-notebook file's names must be that notebook's, and a file named after
+# no notebook is refused (scripts/check_params.py). Several notebooks share parameter names with
 # different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
 set -euo pipefail
 PY="${PYTHON:-python3}"
@@ -32,6 +33,8 @@ cd "$(dirname "$0")/.."
 # the kernels (run in notebooks/) import this checkout's package, whatever checkout is installed in editable mode
 export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
+# every parameter name and per-notebook file checked against the notebooks before anything runs
+[ -z "$params" ] || "$PY" scripts/check_params.py "$params" || { echo "(parameters refused: nothing was run)" >&2; exit 2; }
 # One BLAS thread: the models are small (<= 1324 states) and two OpenBLAS threads competing with any other
 # process for the 2 cores slow LAPACK down 10-50x; parallelism is at the task level (synthesis threads, Dask).
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"

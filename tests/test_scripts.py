@@ -71,7 +71,7 @@ def test_a_parameter_folder_gives_each_notebook_its_own_file_after_the_common_on
     calls = tmp_path / "calls"
     calls.mkdir()
     # logs each call's arguments into a file named after the input notebook
-    env = _fake(tmp_path, f"printf '%s\\n' \"$@\" > {calls}/$(basename \"$7\" .ipynb)\n")
+    env = _fake(tmp_path, f"[ \"$2\" != papermill ] || printf '%s\\n' \"$@\" > {calls}/$(basename \"$7\" .ipynb)\n")
     study = tmp_path / "study"
     study.mkdir()
     (study / "all.yaml").write_text("seed: 3\n")
@@ -181,3 +181,41 @@ def test_the_test_command_refuses_an_unknown_worker_count(tmp_path: Path) -> Non
     env["TEST_WORKERS"] = "4"
     run = subprocess.run(["bash", "scripts/test.sh"], cwd=ROOT, env=env, capture_output=True, text=True)
     assert run.returncode == 2 and "TEST_WORKERS must be 1" in run.stderr
+
+
+def _real_run(tmp_path: Path, params: Path) -> subprocess.CompletedProcess:
+    import sys
+
+    env = dict(os.environ, PYTHON=sys.executable, NO_INSTALL="1")
+    return subprocess.run(["bash", "scripts/run_notebooks.sh", "--params", str(params), "--out", str(tmp_path / "run")],
+                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+
+
+def test_a_misnamed_per_notebook_file_is_refused_before_any_notebook(tmp_path: Path) -> None:
+    study = tmp_path / "study"
+    study.mkdir()
+    (study / "07_pso_codsign.yaml").write_text("n_grid: 5\n")  # a typo of 07_pso_codesign
+    run = _real_run(tmp_path, study)
+    assert run.returncode == 2 and "07_pso_codsign.yaml" in run.stderr and "07_pso_codesign.yaml" in run.stderr
+    assert not (tmp_path / "run" / "notebooks").exists() or not any((tmp_path / "run" / "notebooks").iterdir())
+
+
+def test_an_unknown_parameter_name_is_refused_with_the_allowed_ones(tmp_path: Path) -> None:
+    (tmp_path / "study.yaml").write_text("h_mni: 0.02\n")
+    run = _real_run(tmp_path, tmp_path / "study.yaml")
+    assert run.returncode == 2 and "unknown parameter(s) ['h_mni']" in run.stderr and "'h_min'" in run.stderr
+    study = tmp_path / "study"
+    study.mkdir()
+    (study / "07_pso_codesign.yaml").write_text("n_tau: 5\n")  # notebook 08's name, not 07's
+    run = _real_run(tmp_path, study)
+    assert run.returncode == 2 and "unknown parameter(s) ['n_tau'] for notebook 07_pso_codesign" in run.stderr
+
+
+def test_the_smoke_parameters_are_the_notebooks_own() -> None:
+    """tests/smoke/ is a parameter folder like any other: every file is named after a notebook, every name declared."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("check_params", ROOT / "scripts" / "check_params.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.problems(ROOT / "tests" / "smoke", module.declared()) == []
