@@ -27,15 +27,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import spacecraft, synthesis
-from .checks import check_option
+from .checks import check_option, check_real
 from .closedloop import LoopSettings
 from .results import normalise_key, read_keyed, write_json
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+__all__ = ["M0_PAPER", "H_M0", "check_study", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
+H_M0 = 0.03  # m, the section side of the paper's reference truss, whose mass is m0 (whatever the design range)
 TARGET_JC = 0.9
 PENALTY = 10.0
 JC_LIMIT = 2.0
@@ -403,6 +404,42 @@ def _same_objective(stored: dict, objective: dict) -> bool:
 def _normalised_options(options: dict | None) -> Any:
     """Synthesis options as a checkpoint stores them (JSON types; None means :data:`SYNTHESIS_OPTIONS`)."""
     return json.loads(json.dumps(SYNTHESIS_OPTIONS if options is None else options, default=str))
+
+
+def check_study(h_min: object, h_max: object, n_particles: object, n_iterations: object, n_grid: object,
+                params: dict | None = None) -> None:
+    """Check a co-design study's range and sizes before any model is built (notebook 07's first step).
+
+    Parameters
+    ----------
+    h_min, h_max : float
+        The design range of the section side h [m]; ``h_min < h_max``, both inside the spacecraft parameters'
+        ``truss.h_range`` (the paper's [0.015, 0.03] m).
+    n_particles, n_iterations : int
+        Swarm size (at least 2) and iterations (at least 1).
+    n_grid : int
+        Points of the dense check of the objective over the range (at least 2).
+    params : dict, optional
+        Spacecraft parameters (default: the package's).
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the parameter, its unit and the allowed range (and, for a value above 1 m, the likely centimetres).
+    """
+    low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    for name, value in (("h_min", h_min), ("h_max", h_max)):
+        check_real(f"{name} [m]", value, "m")
+        v = float(cast(float, value))
+        if not (np.isfinite(v) and low - 1e-12 <= v <= high + 1e-12):
+            hint = f" (in centimetres? {v:g} cm is {v / 100:g} m)" if 1.0 <= v <= 100.0 else ""
+            raise ValueError(f"{name} = {value!r} m must lie in the design range [{low}, {high}] m of the spacecraft "
+                             f"parameters (truss.h_range){hint}")
+    if not float(cast(float, h_min)) < float(cast(float, h_max)):
+        raise ValueError(f"h_min = {h_min!r} m must be below h_max = {h_max!r} m (an empty or reversed range)")
+    check_option("n_particles", n_particles, 2, integer=True)
+    check_option("n_iterations", n_iterations, 1, integer=True)
+    check_option("n_grid", n_grid, 2, integer=True)
 
 
 def _check_h_range(h_range: object, params: dict | None = None) -> None:

@@ -72,3 +72,22 @@ def test_rpe_bound_in_microradians_is_refused():
     with pytest.raises(ValueError, match="eps_max"):
         LoopSettings(eps_max=50.0)
     assert LoopSettings(eps_max=50e-6).eps_max == 50e-6
+
+
+@pytest.mark.parametrize("h_min, h_max, n_particles, match", [
+    (0.015, 0.025, 0, r"n_particles must be an integer in \[2, inf\), got 0"),
+    (0.025, 0.02, 24, r"h_min = 0.025 m must be below h_max = 0.02 m"),
+    (0.02, 0.02, 24, r"h_min = 0.02 m must be below h_max = 0.02 m"),
+    (1.5, 3.0, 24, r"h_min = 1.5 m must lie in the design range \[0.015, 0.03\] m .*in centimetres\? 1.5 cm is 0.015 m"),
+    (0.015, 0.04, 24, r"h_max = 0.04 m must lie in the design range"),
+])
+def test_a_codesign_study_is_checked_before_any_model(h_min, h_max, n_particles, match):
+    """Notebook 07's range and sizes (an empty AssertionError, or an error only after the grid, before)."""
+    with pytest.raises(ValueError, match=match):
+        codesign.check_study(h_min, h_max, n_particles, 20, 31)
+
+
+def test_a_codesign_range_given_as_text_names_the_parameter_and_unit():
+    with pytest.raises(TypeError, match=r"h_min \[m\] must be a real number \[m\], got str '2cm'"):
+        codesign.check_study("2cm", 0.03, 24, 20, 31)
+    codesign.check_study(0.02, 0.025, 24, 20, 31)  # a new range inside the design range is fine
