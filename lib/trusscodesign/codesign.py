@@ -14,7 +14,6 @@ is logged; it never stops the run. Particles of an iteration are evaluated in pa
 
 from __future__ import annotations
 
-import hashlib
 import json
 import time
 import traceback
@@ -32,7 +31,7 @@ from .closedloop import LoopSettings
 from .results import normalise_key, read_keyed, write_json
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "H_M0", "check_study", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+__all__ = ["M0_PAPER", "H_M0", "check_study", "grid_key", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
@@ -382,10 +381,21 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     return cast(list[dict], records), time_s  # every record is filled by now
 
 
+def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: dict | None = None,
+             params: dict | None = None) -> dict:
+    """The key of a stored grid of the objective (notebook 07's ``07_grid*.json``, :func:`evaluate_grid`'s ``key``):
+    the section sides [m], the loop settings, the synthesis options and version, and the spacecraft parameters'
+    fingerprint (:func:`trusscodesign.spacecraft.parameters_fingerprint`); a grid stored under another key is
+    recomputed."""
+    return {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": synthesis_options or SYNTHESIS_OPTIONS,
+            "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params)}
+
+
 def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float) -> dict:
-    """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters (a SHA-256 of their
-    JSON) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
-    digest = None if params is None else hashlib.sha256(json.dumps(params, sort_keys=True, default=str).encode()).hexdigest()
+    """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters
+    (:func:`trusscodesign.spacecraft.parameters_fingerprint`, of the package's parameters when ``params`` is None) and
+    m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
+    digest = spacecraft.parameters_fingerprint(params)
     # settings=None is what trusscodesign.design.robust_design then takes, the data file's settings: stored resolved, so that a run
     # with None and one with those settings given are the same objective
     resolved = LoopSettings.from_parameters() if settings is None else settings
@@ -399,6 +409,19 @@ def _same_objective(stored: dict, objective: dict) -> bool:
     if stored.get("settings") is None:
         stored = {**stored, "settings": _objective_key(None, None, 0.0)["settings"]}
     return stored == objective
+
+
+def _changes(stored: dict, objective: dict) -> str:
+    """What differs between a stored objective key and this run's, in words."""
+    words = {"params_sha256": "the spacecraft parameters (their fingerprint)", "m0": "m0 [kg]"}
+    out = []
+    for k in sorted(set(stored) | set(objective)):
+        old, new = stored.get(k), objective.get(k)
+        if k == "settings" and isinstance(old, dict) and isinstance(new, dict):
+            out += [f"settings.{n}: {old.get(n)!r} stored, {new.get(n)!r} now" for n in sorted(set(old) | set(new)) if old.get(n) != new.get(n)]
+        elif old != new:
+            out.append(f"{words.get(k, k)}: {old!r} stored, {new!r} now")
+    return "; ".join(out) or "the same key"
 
 
 def _normalised_options(options: dict | None) -> Any:
@@ -512,9 +535,9 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         if _normalised_options(extra.get("options")) != _normalised_options(synthesis_options):
             raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
                              f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
-        if "objective" in extra and not _same_objective(extra["objective"], objective):  # (checkpoints written before 2026-12-03 lack it)
-            raise ValueError(f"checkpoint {checkpoint} was computed for another objective (settings, parameters or m0: "
-                             f"{extra['objective']!r}, not {objective!r}): pass another checkpoint path to run")
+        if not _same_objective(extra.get("objective", {}), objective):
+            raise ValueError(f"checkpoint {checkpoint} was computed for another objective ({_changes(extra.get('objective', {}), objective)}): "
+                             "pass another checkpoint path (results_dir) to run, or delete it to recompute")
 
     def evaluate(x: NDArray, state) -> list[dict]:
         t0 = time.perf_counter()

@@ -16,6 +16,7 @@ frequency) or, with ``open_loop(..., uncertain=True)`` / ``tunable=True``, LFT p
 
 from __future__ import annotations
 
+import hashlib
 import json
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -31,7 +32,7 @@ from .reduction import modal_reduction, static_gain
 from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["load_parameters", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+__all__ = ["load_parameters", "parameters_fingerprint", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
@@ -43,6 +44,25 @@ OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{
 def load_parameters() -> dict:
     """The spacecraft parameters of ``lib/trusscodesign/data/spacecraft/parameters.json``."""
     return json.loads((paths.PACKAGE_DATA / "spacecraft" / "parameters.json").read_text())
+
+
+def parameters_fingerprint(params: dict | None = None) -> str:
+    """SHA-256 of the spacecraft parameters' values (default: :func:`load_parameters`), the key under which results
+    computed from them are stored.
+
+    Canonical JSON (sorted keys) of the parameters with the keys that start with ``_`` (provenance and notes, text for
+    the reader) left out at every level: any change of a value changes the fingerprint, a change of a note does not.
+    """
+
+    def values(node: object) -> object:
+        if isinstance(node, dict):
+            return {k: values(v) for k, v in node.items() if not str(k).startswith("_")}
+        if isinstance(node, list):
+            return [values(v) for v in node]
+        return node
+
+    text = json.dumps(values(load_parameters() if params is None else params), sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def _finite(value: float, name: str, positive: bool = False) -> float:

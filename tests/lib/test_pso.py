@@ -670,3 +670,51 @@ def test_initial_swarm_is_uniform_in_the_bounds_with_velocities_in_plus_minus_th
     assert state.neighbours == 100 and state.inertia == 1.1 and np.all(state.p_f == np.inf)
     for n, n_min in ((2, 1), (3, 2), (6, 2), (8, 2), (12, 3), (24, 6)):  # min(max(2, floor(n / 4)), n - 1)
         assert pso.init_swarm(n, [0.0], [1.0], seed=0).neighbours == n_min
+
+
+def test_the_parameters_fingerprint_follows_values_not_notes():
+    from trusscodesign import spacecraft
+
+    base = spacecraft.load_parameters()
+    edited = json.loads(json.dumps(base))
+    edited["hub"]["mass"] = 400.0  # a value: another fingerprint
+    noted = json.loads(json.dumps(base))
+    noted["_provenance"] = "another note"  # a note: the same
+    assert spacecraft.parameters_fingerprint(edited) != spacecraft.parameters_fingerprint() == spacecraft.parameters_fingerprint(noted)
+
+
+def test_edited_parameters_refuse_the_stored_swarm_and_recompute_the_grid(tmp_path, monkeypatch):
+    """The silent wrong result of a rerun after editing parameters.json: the swarm's checkpoint is refused with a message
+    naming the parameters (a checkpoint written before the fingerprint, with none, too), and the grid is recomputed."""
+    from trusscodesign import spacecraft
+
+    def fake(h, gain0=None, fail=False, **kw):
+        return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    run = dict(seed=0, progress=False, log=lambda s: None)
+    edited = json.loads(json.dumps(spacecraft.load_parameters()))
+    edited["hub"]["mass"] = 400.0
+    ck = tmp_path / "07_pso_checkpoint.json"
+    codesign.run_codesign(2, 3, checkpoint=ck, stop_after=1, **run)
+    with pytest.raises(ValueError, match=r"another objective \(the spacecraft parameters \(their fingerprint\): '[0-9a-f]{64}' stored"):
+        codesign.run_codesign(2, 3, checkpoint=ck, params=edited, **run)
+    state = json.loads(ck.read_text())
+    state["extra"]["objective"]["params_sha256"] = None  # as checkpoints stored the package's parameters before
+    ck.write_text(json.dumps(state))
+    with pytest.raises(ValueError, match=r"the spacecraft parameters \(their fingerprint\): None stored"):
+        codesign.run_codesign(2, 3, checkpoint=ck, **run)
+
+    evaluated = []
+
+    def swarm(hs, *args, **kwargs):
+        evaluated.extend(hs)
+        return [fake(h) for h in hs]
+
+    monkeypatch.setattr(codesign, "evaluate_swarm", swarm)
+    hs, settings, cache = [0.02, 0.025], LoopSettings.from_parameters(), tmp_path / "07_grid.json"
+    codesign.evaluate_grid(hs, None, settings, cache=cache, key=codesign.grid_key(hs, settings))
+    codesign.evaluate_grid(hs, None, settings, cache=cache, key=codesign.grid_key(hs, settings))  # read back
+    assert evaluated == hs
+    codesign.evaluate_grid(hs, None, settings, cache=cache, key=codesign.grid_key(hs, settings, params=edited))
+    assert evaluated == hs + hs  # recomputed for the edited parameters
