@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import json
 from dataclasses import dataclass, field
+from typing import cast
 from functools import lru_cache
 
 import control as ct
@@ -32,7 +33,7 @@ from .reduction import modal_reduction, static_gain
 from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["load_parameters", "parameters_fingerprint", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+__all__ = ["load_parameters", "parameters_fingerprint", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
@@ -73,15 +74,17 @@ def _finite(value: float, name: str, positive: bool = False) -> float:
     return float(value)
 
 
-def _section_side(h: float, params: dict) -> float:
-    """``h`` [m] checked: finite, positive and at most a tenth of the cube side (Euler-Bernoulli members need a slenderness
-    of 10 or more), so that a side given in cm or mm is refused instead of building a truss of metre-thick beams."""
-    h = _finite(h, "h", positive=True)
-    tr = params["truss"]
+def check_section_side(h: object, params: dict | None = None, name: str = "h") -> float:
+    """``h`` [m] checked and returned as a float: finite, positive and at most a tenth of the cube side (Euler-Bernoulli
+    members need a slenderness of 10 or more), so that a side given in cm or mm is refused instead of building a truss of
+    metre-thick beams. ``name`` is the parameter named in the error (default ``"h"``)."""
+    value = _finite(cast(float, h), f"{name} [m]", positive=True)
+    tr = (params or load_parameters())["truss"]
     limit = tr["cube_side"] / 10.0
-    if h > limit:
-        raise ValueError(f"h must be a section side in metres in (0, {limit:g}] (a tenth of the cube side: Euler-Bernoulli "
+    if value > limit:
+        raise ValueError(f"{name} must be a section side in metres in (0, {limit:g}] (a tenth of the cube side: Euler-Bernoulli "
                          f"members; design range {tr['h_range']} m), got {h!r}: a value in cm or mm?")
+    return value
     return h
 
 
@@ -95,7 +98,7 @@ def _panel_angle(theta: float) -> float:
 def truss_mass(h: float, params: dict | None = None) -> float:
     """T-truss mass ``rho h^2 * (total beam length)`` [kg] (183.11 kg at h = 3 cm)."""
     p = params or load_parameters()
-    h = _section_side(h, p)
+    h = check_section_side(h, p)
     nodes = truss_nodes(p["truss"]["cube_side"])
     length = sum(np.linalg.norm(nodes[a] - nodes[b]) for a, b in truss_members(p["truss"]["cube_side"]))
     return p["truss"]["density"] * h**2 * length
@@ -221,7 +224,7 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
         outside [-pi, pi] (e.g. given in degrees).
     """
     p = params or load_parameters()
-    h = _section_side(h, p)
+    h = check_section_side(h, p)
     theta = _panel_angle(theta)
     hub = p["hub"]
     m_hub = _finite(hub["mass"] if hub_mass is None else hub_mass, "hub_mass", positive=True)

@@ -91,3 +91,13 @@ def test_a_codesign_range_given_as_text_names_the_parameter_and_unit():
     with pytest.raises(TypeError, match=r"h_min \[m\] must be a real number \[m\], got str '2cm'"):
         codesign.check_study("2cm", 0.03, 24, 20, 31)
     codesign.check_study(0.02, 0.025, 24, 20, 31)  # a new range inside the design range is fine
+
+
+@pytest.mark.parametrize("value, match", [(3.0, r"h_fe\[1\] must be a section side in metres in \(0, 0.1\].*cm or mm"),
+                                          ("2cm", r"h_fe\[1\] \[m\] must be a real number, got str"),
+                                          (0.0, r"h_fe\[1\] \[m\] must be a finite positive number")])
+def test_a_section_side_names_the_parameter_its_unit_and_range(value, match):
+    """Notebook 04's sides (h = 3, cm typed as m, gave an empty AssertionError on the slow-pole count)."""
+    with pytest.raises((TypeError, ValueError), match=match):
+        spacecraft.check_section_side(value, name="h_fe[1]")
+    assert spacecraft.check_section_side(0.02139) == 0.02139
