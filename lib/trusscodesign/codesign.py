@@ -19,6 +19,7 @@ import time
 import traceback
 import warnings
 from collections.abc import Mapping, Sequence
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Any, cast
 
@@ -28,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import spacecraft, synthesis
 from .checks import check_option, check_real
 from .closedloop import LoopSettings
-from .results import normalise_key, read_keyed, write_json
+from .results import normalise_key, read_keyed, run_lock, write_json
 from .synthesis import Scenario
 
 __all__ = ["M0_PAPER", "H_M0", "check_study", "grid_key", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
@@ -359,26 +360,28 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     if key is None:
         key = {"h": h.tolist(), "settings": None if settings is None else settings.__dict__, "algorithm": synthesis.ALGORITHM,
                "kwargs": kwargs}
-    stored, key = read_keyed(cache, key)
-    records: list[dict | None] = [None] * len(hs)
-    time_s = 0.0
-    if stored is not None and len(stored.get("records", [])) == len(hs):  # resume
-        records, time_s = stored["records"], float(stored.get("time_s", 0.0))
-        other = [(i, r["h"]) for i, r in enumerate(records) if r is not None and float(r["h"]) != float(h[i])]
-        if other:
-            raise ValueError(f"the grid cache {cache} holds records at other h (e.g. {other[0][1]!r} m for "
-                             f"{float(h[other[0][0]])!r} m) under the same key: pass another cache path or a key that names the grid")
-    todo = [i for i, r in enumerate(records) if r is None]
-    for start in range(0, len(todo), chunk):
-        idx = todo[start:start + chunk]
-        t0 = time.perf_counter()
-        done = evaluate_swarm([hs[i] for i in idx], None, client, settings, progress=progress, **kwargs)
-        time_s += time.perf_counter() - t0
-        for i, rec in zip(idx, done):  # (shared_with: evaluate_swarm's index within the chunk, made the grid's)
-            records[i] = rec if "shared_with" not in rec else dict(rec, shared_with=idx[rec["shared_with"]])
-        if cache is not None:
-            write_json(cache, {"key": key, "records": records, "time_s": time_s})
-    return cast(list[dict], records), time_s  # every record is filled by now
+    # one run at a time on a grid cache: another live run holding it stops this one at once, naming it
+    with run_lock(cache) if cache is not None else nullcontext():
+        stored, key = read_keyed(cache, key)
+        records: list[dict | None] = [None] * len(hs)
+        time_s = 0.0
+        if stored is not None and len(stored.get("records", [])) == len(hs):  # resume
+            records, time_s = stored["records"], float(stored.get("time_s", 0.0))
+            other = [(i, r["h"]) for i, r in enumerate(records) if r is not None and float(r["h"]) != float(h[i])]
+            if other:
+                raise ValueError(f"the grid cache {cache} holds records at other h (e.g. {other[0][1]!r} m for "
+                                 f"{float(h[other[0][0]])!r} m) under the same key: pass another cache path or a key that names the grid")
+        todo = [i for i, r in enumerate(records) if r is None]
+        for start in range(0, len(todo), chunk):
+            idx = todo[start:start + chunk]
+            t0 = time.perf_counter()
+            done = evaluate_swarm([hs[i] for i in idx], None, client, settings, progress=progress, **kwargs)
+            time_s += time.perf_counter() - t0
+            for i, rec in zip(idx, done):  # (shared_with: evaluate_swarm's index within the chunk, made the grid's)
+                records[i] = rec if "shared_with" not in rec else dict(rec, shared_with=idx[rec["shared_with"]])
+            if cache is not None:
+                write_json(cache, {"key": key, "records": records, "time_s": time_s})
+        return cast(list[dict], records), time_s  # every record is filled by now
 
 
 def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: dict | None = None,
@@ -525,48 +528,50 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     _check_h_range(h_range, params)
     objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
     _check_synthesis_options(synthesis_options)  # likewise: a bad option would fail every particle of every iteration
-    objective = _objective_key(settings, params, m0)
-    if checkpoint is not None and Path(checkpoint).exists():
-        extra = pso.load_state(checkpoint).extra
-        found = extra.get("algorithm")
-        if found != synthesis.ALGORITHM:
-            raise ValueError(f"checkpoint {checkpoint} was computed by the synthesis {found!r}, not the current "
-                             f"{synthesis.ALGORITHM!r}: delete it (or pass another checkpoint path) to rerun")
-        if _normalised_options(extra.get("options")) != _normalised_options(synthesis_options):
-            raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
-                             f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
-        if not _same_objective(extra.get("objective", {}), objective):
-            raise ValueError(f"checkpoint {checkpoint} was computed for another objective ({_changes(extra.get('objective', {}), objective)}): "
-                             "pass another checkpoint path (results_dir) to run, or delete it to recompute")
+    # one run at a time on a checkpoint: another live run holding it stops this one at once, naming it
+    with run_lock(checkpoint) if checkpoint is not None else nullcontext():
+        objective = _objective_key(settings, params, m0)
+        if checkpoint is not None and Path(checkpoint).exists():
+            extra = pso.load_state(checkpoint).extra
+            found = extra.get("algorithm")
+            if found != synthesis.ALGORITHM:
+                raise ValueError(f"checkpoint {checkpoint} was computed by the synthesis {found!r}, not the current "
+                                 f"{synthesis.ALGORITHM!r}: delete it (or pass another checkpoint path) to rerun")
+            if _normalised_options(extra.get("options")) != _normalised_options(synthesis_options):
+                raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
+                                 f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
+            if not _same_objective(extra.get("objective", {}), objective):
+                raise ValueError(f"checkpoint {checkpoint} was computed for another objective ({_changes(extra.get('objective', {}), objective)}): "
+                                 "pass another checkpoint path (results_dir) to run, or delete it to recompute")
 
-    def evaluate(x: NDArray, state) -> list[dict]:
-        t0 = time.perf_counter()
-        state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, synthesis_options, objective
-        gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
-        fails = [p for it, p in fail_particles if it == state.iteration]
-        part = None if checkpoint is None else partial_path(checkpoint)
-        key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
-               "objective": objective, "options": synthesis_options}
-        recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
-                              synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"),
-                              partial=part, partial_key=key)
-        ok = [r for r in recs if r["gain"] is not None and not str(r.get("status", "")).startswith("failed")]
-        if ok:  # (a failed synthesis's gain never becomes the warm start: the previous one is kept)
-            best = min(ok, key=lambda r: r["f"])
-            state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
-        wall = time.perf_counter() - t0
-        if part is not None:  # with the time spent on this iteration before an interruption
-            wall = max(wall, _read_partial(part, key)["time_s"])
-        state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [wall]
-        return recs
+        def evaluate(x: NDArray, state) -> list[dict]:
+            t0 = time.perf_counter()
+            state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, synthesis_options, objective
+            gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
+            fails = [p for it, p in fail_particles if it == state.iteration]
+            part = None if checkpoint is None else partial_path(checkpoint)
+            key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
+                   "objective": objective, "options": synthesis_options}
+            recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
+                                  synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"),
+                                  partial=part, partial_key=key)
+            ok = [r for r in recs if r["gain"] is not None and not str(r.get("status", "")).startswith("failed")]
+            if ok:  # (a failed synthesis's gain never becomes the warm start: the previous one is kept)
+                best = min(ok, key=lambda r: r["f"])
+                state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
+            wall = time.perf_counter() - t0
+            if part is not None:  # with the time spent on this iteration before an interruption
+                wall = max(wall, _read_partial(part, key)["time_s"])
+            state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [wall]
+            return recs
 
-    def summary(state) -> None:  # called once the iteration is in the checkpoint
-        if checkpoint is not None:
-            partial_path(checkpoint).unlink(missing_ok=True)
-        it = [r for r in state.history if r["iteration"] == state.iteration - 1]
-        best = min(it, key=lambda r: r["f"])
-        failed = sum(not str(r.get("status", "")).startswith("ok") for r in it)
-        log(f"iteration {state.iteration}/{n_iterations}: best of iteration h = {100 * best['h']:.4f} cm, J_c = {best['J_c']:.4f}, "
-            f"f^n = {best['f']:.5f}; swarm best f^n = {state.g_f:.5f} at h = {100 * state.g[0]:.4f} cm; {failed} failed/penalised")
+        def summary(state) -> None:  # called once the iteration is in the checkpoint
+            if checkpoint is not None:
+                partial_path(checkpoint).unlink(missing_ok=True)
+            it = [r for r in state.history if r["iteration"] == state.iteration - 1]
+            best = min(it, key=lambda r: r["f"])
+            failed = sum(not str(r.get("status", "")).startswith("ok") for r in it)
+            log(f"iteration {state.iteration}/{n_iterations}: best of iteration h = {100 * best['h']:.4f} cm, J_c = {best['J_c']:.4f}, "
+                f"f^n = {best['f']:.5f}; swarm best f^n = {state.g_f:.5f} at h = {100 * state.g[0]:.4f} cm; {failed} failed/penalised")
 
-    return pso.run(evaluate, n_particles, [h_range[0]], [h_range[1]], n_iterations, seed, checkpoint, summary, stop_after, pso_rule)
+        return pso.run(evaluate, n_particles, [h_range[0]], [h_range[1]], n_iterations, seed, checkpoint, summary, stop_after, pso_rule)

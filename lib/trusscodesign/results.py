@@ -7,6 +7,9 @@ import json
 import os
 import platform
 import tempfile
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +18,7 @@ import numpy as np
 from . import __version__
 from .paths import resolve
 
-__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_json", "read_keyed", "normalise_key", "save_results", "load_results"]
+__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_json", "run_lock", "read_keyed", "normalise_key", "save_results", "load_results"]
 
 
 def to_jsonable(value: Any) -> Any:
@@ -98,6 +101,40 @@ def read_json(path: str | Path) -> Any:
     except json.JSONDecodeError as err:
         raise ValueError(f"{path} is not valid JSON ({err.msg} at line {err.lineno}, column {err.colno}): the file is "
                          "damaged or truncated; restore it (git checkout, a backup) or delete it to recompute") from err
+
+
+@contextmanager
+def run_lock(target: str | Path) -> Iterator[Path]:
+    """Hold ``<target>.lock`` while a run writes ``target`` (a checkpoint, a grid cache), so that two runs never share one.
+
+    The lock is the operating system's (``flock``): it is released when the run ends, however it ends, so a killed run
+    leaves no stale lock behind. The lock file records its holder (process id, host, start time) for the message that
+    another run gets.
+
+    Raises
+    ------
+    RuntimeError
+        Another live process holds the lock: the message names it, and the way out (wait, or another results folder).
+    """
+    import fcntl
+    import socket
+
+    lock = Path(str(target) + ".lock")
+    lock.parent.mkdir(parents=True, exist_ok=True)
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        holder = lock.read_text().strip() or "a process that has not yet written its name"
+        os.close(fd)
+        raise RuntimeError(f"{target} is in use by another run ({holder}): wait for it to finish, or give this run "
+                           "another results folder (results_dir)") from None
+    try:
+        os.ftruncate(fd, 0)
+        os.write(fd, f"process {os.getpid()} on {socket.gethostname()}, since {time.strftime('%Y-%m-%d %H:%M:%S')}".encode())
+        yield lock
+    finally:
+        os.close(fd)  # releases the lock
 
 
 def read_keyed(path: str | Path | None, key: Any) -> tuple[dict | None, Any]:

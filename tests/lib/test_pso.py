@@ -718,3 +718,53 @@ def test_edited_parameters_refuse_the_stored_swarm_and_recompute_the_grid(tmp_pa
     assert evaluated == hs
     codesign.evaluate_grid(hs, None, settings, cache=cache, key=codesign.grid_key(hs, settings, params=edited))
     assert evaluated == hs + hs  # recomputed for the edited parameters
+
+
+def _hold_lock(path: str, ready, release) -> None:
+    """Another run: holds the lock of ``path`` until told to release it."""
+    from trusscodesign import results
+
+    with results.run_lock(path):
+        ready.set()
+        release.wait(30)
+
+
+def test_a_second_run_on_the_same_folder_stops_at_once_naming_the_first(tmp_path, monkeypatch):
+    """Two co-design runs on one results folder: the second stops before any evaluation with the first run's process and
+    host in its message, and the first run's checkpoint and grid are untouched; a lock is free again once its run ended
+    (also when it was killed: the operating system releases it)."""
+    import multiprocessing as mp
+    import os
+
+    def fake(h, gain0=None, fail=False, **kw):
+        return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    run = dict(seed=3, progress=False, log=lambda s: None)
+    ck, grid = tmp_path / "07_pso_checkpoint.json", tmp_path / "07_grid.json"
+    codesign.run_codesign(2, 3, checkpoint=ck, stop_after=1, **run)
+    before = ck.read_bytes()
+    ctx = mp.get_context("fork")
+    for target in (ck, grid):
+        ready, release = ctx.Event(), ctx.Event()
+        holder = ctx.Process(target=_hold_lock, args=(str(target), ready, release))
+        holder.start()
+        assert ready.wait(30)
+        try:
+            with pytest.raises(RuntimeError, match=rf"{target.name} is in use by another run \(process {holder.pid} on {os.uname().nodename}"):
+                if target == ck:
+                    codesign.run_codesign(2, 3, checkpoint=ck, **dict(run, seed=4))
+                else:
+                    codesign.evaluate_grid([0.02], None, LoopSettings.from_parameters(), cache=grid, key={"k": 1})
+        finally:
+            release.set()
+            holder.join(30)
+    assert ck.read_bytes() == before and not grid.exists()
+    assert codesign.run_codesign(2, 3, checkpoint=ck, **run).iteration == 3  # the first run resumes once the other ended
+    held = ctx.Event()
+    killed = ctx.Process(target=_hold_lock, args=(str(ck), held, ctx.Event()))
+    killed.start()
+    assert held.wait(30)
+    killed.kill()
+    killed.join(30)
+    assert codesign.run_codesign(2, 3, checkpoint=ck, **run).iteration == 3  # no stale lock after a kill
