@@ -32,7 +32,7 @@ from .closedloop import LoopSettings
 from .results import normalise_key, read_keyed, run_lock, write_json
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "H_M0", "check_study", "grid_key", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+__all__ = ["M0_PAPER", "H_M0", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
@@ -129,10 +129,8 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     from . import design
 
     t0 = time.perf_counter()
-    out: dict[str, Any] = {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0, "t_reduction": 0.0,
-           "t_synthesis": 0.0}
+    out = _new_record(h)
     p = params or spacecraft.load_parameters()
-    out["mass"] = out["mass_check"] = np.nan
     try:
         out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), p)  # inside: a bad h is a failed particle
         with threadpool_limits(1):
@@ -159,14 +157,37 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     except Exception as exc:  # a failed particle is penalised and logged, never fatal
         out["status"] = f"failed: {type(exc).__name__}: {exc}"
         out["traceback"] = traceback.format_exc(limit=3)
+    out["t_total"] = time.perf_counter() - t0
+    return _with_objective(out, m0)
+
+
+def _new_record(h: float) -> dict[str, Any]:
+    """A particle's record before its evaluation: no design yet (J_c, Z_c infinite), no mass, no times."""
+    return {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
+            "t_reduction": 0.0, "t_synthesis": 0.0, "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
+
+
+def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:
+    """``out`` with its status made a penalty where ``J_c > 2`` and its objective value ``f`` (infinite without a mass)."""
     if out["status"] == "ok" and not out["J_c"] <= JC_LIMIT:  # NaN too
         out["status"] = "penalty: J_c > 2"
     try:
         out["f"] = objective_value(out["mass"], out["J_c"], m0) if np.isfinite(out["mass"]) else np.inf
     except ValueError as exc:  # e.g. a bad m0: the particle fails, the run goes on
         out["status"], out["f"] = f"failed: {exc}", np.inf
-    out["t_total"] = time.perf_counter() - t0
     return out
+
+
+def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float = M0_PAPER) -> dict[str, Any]:
+    """The record of a particle whose evaluation never returned (it killed every worker that ran it): failed, with its
+    reason, and penalised like any failed synthesis (``f = m(h)/m0 + 10``)."""
+    out = _new_record(h)
+    try:
+        out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), params or spacecraft.load_parameters())
+    except ValueError:
+        pass
+    out["status"] = f"failed: {reason}"
+    return _with_objective(out, m0)
 
 
 # options of design.robust_design itself; the others go to synthesis.synthesize, except those evaluate_particle sets
@@ -252,8 +273,9 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
 
     A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default;
-    ``retries`` counts evaluations that raise, which :func:`evaluate_particle` never does); the results do not depend on the number of
-    workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
+    ``retries`` counts evaluations that raise, which :func:`evaluate_particle` never does); a particle whose evaluation
+    ends its worker every time, run again alone, is a failed particle (:func:`lost_evaluation`) and the run goes on.
+    The results do not depend on the number of workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
     a bound of the range) share one evaluation: with the same warm start the result is the same.
     ``fail_particles`` injects failures (tests).
 
@@ -286,12 +308,24 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
         for h, fail in todo:
             finished((h, fail), evaluate_particle(h, gain0, fail=fail, **kw))
     else:
-        from dask.distributed import as_completed
+        from dask.distributed import KilledWorker, as_completed
 
         futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, retries=retries, **kw): (h, fail)
                    for h, fail in todo}
+        lost = []
         for fut in as_completed(futures):
-            finished(futures[fut], fut.result())
+            try:
+                finished(futures[fut], fut.result())
+            except KilledWorker:  # (evaluate_particle never raises) its workers died: this particle's doing, or another's
+                lost.append(futures[fut])
+        # Dask blames every task a dying worker held, so a particle that kills its worker takes the others queued there
+        # with it: each lost particle runs again alone, and only one that still ends its worker is a failed particle
+        for h, fail in lost:
+            try:
+                rec = client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw).result()
+            except KilledWorker as exc:
+                rec = lost_evaluation(h, f"the evaluation ended its worker every time (KilledWorker: {exc})", params, m0)
+            finished((h, fail), rec)  # saved in the partial file: a resume does not run it again
     bar.close()
     first = {k: i for i, k in reversed(list(enumerate(keys)))}
     return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
@@ -306,7 +340,7 @@ def _read_partial(path: str | Path | None, key: dict | None) -> dict:
     """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
     try:
         stored, key = read_keyed(path, key)
-    except json.JSONDecodeError as exc:  # only a cache of finished particles: recompute them rather than stop
+    except ValueError as exc:  # (read_json: damaged) only a cache of finished particles: recompute them rather than stop
         warnings.warn(f"ignoring the unreadable partial file {path} ({exc}): its particles are evaluated again", stacklevel=2)
         stored, key = None, normalise_key(key)
     return stored or {"key": key, "records": {}, "time_s": 0.0}

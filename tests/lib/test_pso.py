@@ -768,3 +768,49 @@ def test_a_second_run_on_the_same_folder_stops_at_once_naming_the_first(tmp_path
     killed.kill()
     killed.join(30)
     assert codesign.run_codesign(2, 3, checkpoint=ck, **run).iteration == 3  # no stale lock after a kill
+
+
+def _poisoned(h, gain0=None, fail=False, **kw):
+    """An evaluation that kills its worker process at h = 2.22 cm, and returns a plain record elsewhere."""
+    import os
+
+    if abs(h - 0.0222) < 1e-12:
+        os._exit(3)
+    return {"h": h, "f": h, "J_c": 0.1, "gain": None, "scenarios": None, "status": "ok"}
+
+
+def test_a_particle_that_kills_its_worker_is_a_failed_particle_not_the_end_of_the_run(tmp_path, monkeypatch):
+    """Dask gives up on a task that killed its workers (KilledWorker), which ended the whole co-design and every resume.
+    Now the particle is recorded as failed with its h and the reason, penalised (m(h)/m0 + 10), saved in the partial
+    file, and a resume does not run it again."""
+    import sys
+
+    import cloudpickle
+    import dask
+
+    pytest.importorskip("dask.distributed")
+    from trusscodesign import spacecraft
+
+    monkeypatch.setattr(codesign, "evaluate_particle", _poisoned)
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers run this module's function as it is here
+    part, key = tmp_path / "07_pso_checkpoint.partial.json", {"iteration": 1}
+    try:
+        with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+            client = codesign.local_client(1)
+        try:
+            recs = codesign.evaluate_swarm([0.02, 0.0222], None, client, progress=False, partial=part, partial_key=key)
+        finally:
+            codesign.close_client(client)
+    finally:
+        cloudpickle.unregister_pickle_by_value(sys.modules[__name__])
+    assert recs[0]["status"] == "ok"
+    lost = recs[1]
+    assert lost["h"] == 0.0222 and lost["status"].startswith("failed: the evaluation ended its worker every time (KilledWorker")
+    assert lost["f"] == pytest.approx(spacecraft.truss_mass(0.0222) / codesign.M0_PAPER + 10) and lost["gain"] is None
+
+    def never(*args, **kwargs):
+        raise AssertionError("a saved evaluation was run again")
+
+    monkeypatch.setattr(codesign, "evaluate_particle", never)
+    again = codesign.evaluate_swarm([0.02, 0.0222], None, None, progress=False, partial=part, partial_key=key)
+    assert [r["status"] for r in again] == [r["status"] for r in recs]
