@@ -1,22 +1,15 @@
 """Cube element against the stored Patran/Nastran table, the paper's SDT column and two FE codes."""
 
-import csv
-
 import numpy as np
 import pytest
 
-from trusscodesign import cube, frame_fe, modal, opensees_fe, paths, reduction, titop
+from trusscodesign import cube, frame_fe, modal, nastran, opensees_fe, reduction, titop
 
-COLS = ["T1", "T2", "T3", "R1", "R2", "R3"]
 
 
 def _table():
-    rows = list(csv.DictReader(open(paths.PACKAGE_DATA / "nastran_cube" / "cube_modes.csv")))
-    out = {}
-    for model in ("patran_nastran", "paper_sdt"):
-        sel = [r for r in rows if r["model"] == model]
-        out[model] = (np.array([float(r["omega_rad_s"]) for r in sel]), np.array([[float(r[c]) for c in COLS] for r in sel]))
-    return out
+    tables = nastran.load_tables()
+    return {model: (tables.omega[model], tables.participation[model]) for model in nastran.MODELS}
 
 
 TABLE = _table()
