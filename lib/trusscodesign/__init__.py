@@ -3,7 +3,7 @@
 Modules: ``frames`` (DCMs, kinematic model tau, rotation LFTs), ``ports`` (multi-port models,
 channel inversion, interconnection, delta ports), ``titop`` (analytical Euler-Bernoulli beam,
 h-parametrised LFT beam), ``mechanisms`` (L-chain, triangle, square), ``cube``, ``nastran`` (the cube's stored Nastran/SDT tables, read and checked), ``truss``
-(T-truss), ``bodies`` (hub, antenna, PMA, solar panel on SADM), ``spacecraft`` (open-loop G),
+(T-truss), ``bodies`` (hub, antenna, PMA, solar panel on SADM), ``spacecraft`` (open-loop G), ``schema`` (the spacecraft parameters' fields, units and ranges),
 ``lft`` (uncertain/tunable parameters and LFT algebra), ``reduction`` (spurious slow poles,
 modal reduction), ``modal`` (participation factors, models from modal data), ``assembly``
 (direct constrained assembly), ``frame_fe`` and ``opensees_fe`` (finite-element references),

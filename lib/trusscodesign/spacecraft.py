@@ -43,8 +43,15 @@ OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{
 
 @lru_cache(maxsize=1)
 def load_parameters() -> dict:
-    """The spacecraft parameters of ``lib/trusscodesign/data/spacecraft/parameters.json``."""
-    return json.loads((paths.PACKAGE_DATA / "spacecraft" / "parameters.json").read_text())
+    """The spacecraft parameters of ``lib/trusscodesign/data/spacecraft/parameters.json``, checked against their schema
+    (:func:`trusscodesign.schema.check_parameters`: a missing field or a bad value names the file and the field)."""
+    from .results import read_json
+    from .schema import check_parameters
+
+    path = paths.PACKAGE_DATA / "spacecraft" / "parameters.json"
+    params = read_json(path)
+    check_parameters(params, str(path))
+    return params
 
 
 def parameters_fingerprint(params: dict | None = None) -> str:
@@ -223,6 +230,10 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
         For non-positive h, masses, inertias or frequencies, h above a tenth of the cube side (e.g. given in cm), or theta
         outside [-pi, pi] (e.g. given in degrees).
     """
+    if params is not None:  # the package's own are checked on load
+        from .schema import check_parameters
+
+        check_parameters(params, "params")
     p = params or load_parameters()
     h = check_section_side(h, p)
     theta = _panel_angle(theta)

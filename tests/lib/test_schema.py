@@ -1,0 +1,54 @@
+"""The spacecraft parameters against their schema: the stored file passes; a missing field or a bad value is refused
+with the file (or "params"), the field's path, its unit and what is allowed, before any model is built."""
+
+import copy
+import json
+import shutil
+
+import pytest
+
+from trusscodesign import paths, schema, spacecraft
+
+
+def _edited(change) -> dict:
+    params = copy.deepcopy(spacecraft.load_parameters())
+    change(params)
+    return params
+
+
+def test_the_stored_parameters_pass():
+    schema.check_parameters(spacecraft.load_parameters())
+
+
+@pytest.mark.parametrize("change, match", [
+    (lambda p: p["hub"].pop("mass"), r"the field hub\.mass is missing"),
+    (lambda p: p.pop("closed_loop"), r"the field closed_loop\.omega_acs is missing \(closed_loop not found\)"),
+    (lambda p: p["hub"].update(mass=-400.0), r"hub\.mass \[kg\] must be a finite number in \(0, inf\), got -400\.0"),
+    (lambda p: p["hub"].update(mass="640"), r"hub\.mass \[kg\] must be a number, got str '640'"),
+    (lambda p: p["truss"].update(damping=float("nan")), r"truss\.damping \[-\] must be a finite number in \[0, 1\)"),
+    (lambda p: p["solar_panel"].update(omega=[2.51, 9.42, 3.77]), r"solar_panel\.omega \[rad/s\] must be a list of positive, increasing"),
+    (lambda p: p["hub"]["inertia"][0].__setitem__(1, 50.0), r"hub\.inertia \[kg m\^2\] must be a symmetric positive definite"),
+    (lambda p: p["choices"].update(effort="force"), r"choices\.effort \[-\] must be one of \['command', 'transmitted'\]"),
+    (lambda p: p["truss"].update(h_range=[0.03, 0.015]), r"truss\.h_range \[m\] must be \(low, high\) with 0 < low < high"),
+])
+def test_a_bad_field_is_named_with_its_unit_and_range(change, match):
+    with pytest.raises(ValueError, match=r"params: " + match):
+        spacecraft.open_loop(0.02139, params=_edited(change))
+
+
+def test_an_edited_parameters_file_is_checked_on_load(tmp_path, monkeypatch):
+    shutil.copytree(paths.PACKAGE_DATA, tmp_path / "data")
+    path = tmp_path / "data" / "spacecraft" / "parameters.json"
+    params = json.loads(path.read_text())
+    del params["pma"]["stiffness"]
+    path.write_text(json.dumps(params))
+    monkeypatch.setattr(paths, "PACKAGE_DATA", tmp_path / "data")
+    spacecraft.load_parameters.cache_clear()
+    try:
+        with pytest.raises(ValueError, match=rf"{path}: the field pma\.stiffness is missing"):
+            spacecraft.load_parameters()
+        path.write_text(path.read_text()[:100])
+        with pytest.raises(ValueError, match=rf"{path} is not valid JSON"):
+            spacecraft.load_parameters()
+    finally:
+        spacecraft.load_parameters.cache_clear()
