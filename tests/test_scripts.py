@@ -184,11 +184,13 @@ def test_the_test_command_refuses_an_unknown_worker_count(tmp_path: Path) -> Non
 
 
 def _real_run(tmp_path: Path, params: Path) -> subprocess.CompletedProcess:
+    """The main job with the real parameter check and a stand-in for papermill (which logs to calls.txt)."""
     import sys
 
-    env = dict(os.environ, PYTHON=sys.executable, NO_INSTALL="1")
+    calls = tmp_path / "calls.txt"
+    env = _fake(tmp_path, f'case "$1" in scripts/check_params.py) exec {sys.executable} "$@";; esac\necho "$*" >> {calls}\n')
     return subprocess.run(["bash", "scripts/run_notebooks.sh", "--params", str(params), "--out", str(tmp_path / "run")],
-                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=120)
 
 
 def test_a_misnamed_per_notebook_file_is_refused_before_any_notebook(tmp_path: Path) -> None:
@@ -197,7 +199,7 @@ def test_a_misnamed_per_notebook_file_is_refused_before_any_notebook(tmp_path: P
     (study / "07_pso_codsign.yaml").write_text("n_grid: 5\n")  # a typo of 07_pso_codesign
     run = _real_run(tmp_path, study)
     assert run.returncode == 2 and "07_pso_codsign.yaml" in run.stderr and "07_pso_codesign.yaml" in run.stderr
-    assert not (tmp_path / "run" / "notebooks").exists() or not any((tmp_path / "run" / "notebooks").iterdir())
+    assert not (tmp_path / "calls.txt").exists()  # no notebook ran
 
 
 def test_an_unknown_parameter_name_is_refused_with_the_allowed_ones(tmp_path: Path) -> None:
@@ -209,6 +211,11 @@ def test_an_unknown_parameter_name_is_refused_with_the_allowed_ones(tmp_path: Pa
     (study / "07_pso_codesign.yaml").write_text("n_tau: 5\n")  # notebook 08's name, not 07's
     run = _real_run(tmp_path, study)
     assert run.returncode == 2 and "unknown parameter(s) ['n_tau'] for notebook 07_pso_codesign" in run.stderr
+    assert not (tmp_path / "calls.txt").exists()
+    (study / "07_pso_codesign.yaml").write_text("n_grid: 5\n")  # a good folder passes the check: the notebooks run
+    run = _real_run(tmp_path, study)
+    assert run.returncode == 0, run.stderr
+    assert len((tmp_path / "calls.txt").read_text().splitlines()) == len(list((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")))
 
 
 def test_the_smoke_parameters_are_the_notebooks_own() -> None:

@@ -489,7 +489,7 @@ def check_study(h_min: object, h_max: object, n_particles: object, n_iterations:
     """
     low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
     for name, value in (("h_min", h_min), ("h_max", h_max)):
-        check_real(f"{name} [m]", value, "m")
+        check_real(name, value, "m")
         v = float(cast(float, value))
         if not (np.isfinite(v) and low - 1e-12 <= v <= high + 1e-12):
             hint = f" (in centimetres? {v:g} cm is {v / 100:g} m)" if 1.0 <= v <= 100.0 else ""

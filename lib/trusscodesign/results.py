@@ -76,6 +76,9 @@ def write_json(path: str | Path, payload: Any, indent: int | None = None) -> Pat
     text = json.dumps(to_jsonable(payload), indent=indent, allow_nan=False)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)  # as an ordinary new file (mkstemp's are the owner's only): shared folders stay shared
         with os.fdopen(fd, "w") as fh:
             fh.write(text + "\n" if indent is not None else text)
             fh.flush()
@@ -127,8 +130,13 @@ def run_lock(target: str | Path) -> Iterator[Path]:
     except BlockingIOError:
         holder = lock.read_text().strip() or "a process that has not yet written its name"
         os.close(fd)
-        raise RuntimeError(f"{target} is in use by another run ({holder}): wait for it to finish, or give this run "
+        who = "this process itself, in another call" if holder.startswith(f"process {os.getpid()} ") else "another run"
+        raise RuntimeError(f"{target} is in use by {who} ({holder}): wait for it to finish, or give this run "
                            "another results folder (results_dir)") from None
+    except OSError as err:  # e.g. a network file system mounted without locks
+        os.close(fd)
+        raise RuntimeError(f"cannot lock {lock} ({err.strerror}): the file system of the results folder does not support "
+                           "locks; use a local results folder (results_dir)") from err
     try:
         os.ftruncate(fd, 0)
         os.write(fd, f"process {os.getpid()} on {socket.gethostname()}, since {time.strftime('%Y-%m-%d %H:%M:%S')}".encode())

@@ -20,7 +20,7 @@ HUB_POINTS = ("P1", "P2", "P3", "P4", "P5", "P6", "P7")
 
 def _number(low: float = -np.inf, high: float = np.inf, open_low: bool = False, open_high: bool = False) -> Callable:
     def check(value: Any) -> str | None:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
             return f"a number, got {type(value).__name__} {value!r}"
         inside = np.isfinite(value) and (value > low if open_low else value >= low) and (value < high if open_high else value <= high)
         if not inside:
@@ -81,6 +81,13 @@ def _increasing_positive(value: Any) -> str | None:
     return None
 
 
+def _factors(value: Any) -> str | None:
+    a = np.asarray(value, dtype=object)
+    if a.ndim != 2 or a.shape[1] != 6 or any(_number()(v) for v in a.ravel()):
+        return f"a list of participation-factor rows of 6 finite numbers (one row per panel mode), got {value!r}"
+    return None
+
+
 def _pma_layout(value: Any) -> str | None:
     ok = isinstance(value, list) and len(value) == 4 and all(
         isinstance(s, Mapping) and isinstance(s.get("node"), str) and s.get("direction") in ("x", "y") for s in value)
@@ -97,7 +104,8 @@ FIELDS: tuple[tuple[str, str, Callable], ...] = (
     ("truss.base_points", "-", _names(("N1", "N2", "N3", "N4"), HUB_POINTS)),
     ("solar_panel.mass", "kg", POSITIVE), ("solar_panel.r_og", "m", _vector(3)), ("solar_panel.inertia_g", "kg m^2", _inertia),
     ("solar_panel.omega", "rad/s", _increasing_positive), ("solar_panel.omega1_uncertainty", "-", RATIO),
-    ("solar_panel.damping", "-", RATIO), ("solar_panel.points", "-", _names(("SP1", "SP2"), HUB_POINTS)),
+    ("solar_panel.damping", "-", RATIO), ("solar_panel.factors", "kg, kg m", _factors),
+    ("solar_panel.points", "-", _names(("SP1", "SP2"), HUB_POINTS)),
     ("antenna.mass", "kg", POSITIVE), ("antenna.inertia", "kg m^2", _inertia),
     ("antenna.node", "-", lambda v: None if isinstance(v, str) else f"a truss node name, got {v!r}"),
     ("pma.casing_mass", "kg", POSITIVE), ("pma.casing_inertia", "kg m^2", _inertia), ("pma.r_og", "m", _vector(3)),
@@ -142,3 +150,7 @@ def check_parameters(params: Mapping, source: str = "the spacecraft parameters")
     low, high = params["truss"]["h_range"]
     if not 0 < low < high:
         raise ValueError(f"{source}: truss.h_range [m] must be (low, high) with 0 < low < high, got {[low, high]}")
+    panel = params["solar_panel"]
+    if len(panel["factors"]) != len(panel["omega"]):
+        raise ValueError(f"{source}: solar_panel.factors must have one row per mode of solar_panel.omega "
+                         f"({len(panel['omega'])}), got {len(panel['factors'])}")

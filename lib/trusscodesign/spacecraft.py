@@ -20,7 +20,6 @@ import hashlib
 import json
 from dataclasses import dataclass, field
 from typing import cast
-from functools import lru_cache
 
 import control as ct
 import numpy as np
@@ -41,17 +40,28 @@ OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{
            + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
 
 
-@lru_cache(maxsize=1)
+_LOADED: dict[tuple[str, int, int], dict] = {}  # the parameters as last read, keyed by the file's path, time and size
+
+
 def load_parameters() -> dict:
     """The spacecraft parameters of ``lib/trusscodesign/data/spacecraft/parameters.json``, checked against their schema
-    (:func:`trusscodesign.schema.check_parameters`: a missing field or a bad value names the file and the field)."""
+    (:func:`trusscodesign.schema.check_parameters`: a missing field or a bad value names the file and the field).
+
+    Read again whenever the file changes (its modification time or size), so that a kernel that ran before an edit
+    does not go on with the old values (nor key new results with their fingerprint). Treat the result as read-only.
+    """
     from .results import read_json
     from .schema import check_parameters
 
     path = paths.PACKAGE_DATA / "spacecraft" / "parameters.json"
-    params = read_json(path)
-    check_parameters(params, str(path))
-    return params
+    stat = path.stat()
+    key = (str(path), stat.st_mtime_ns, stat.st_size)
+    if key not in _LOADED:
+        params = read_json(path)
+        check_parameters(params, str(path))
+        _LOADED.clear()
+        _LOADED[key] = params
+    return _LOADED[key]
 
 
 def parameters_fingerprint(params: dict | None = None) -> str:
@@ -92,7 +102,6 @@ def check_section_side(h: object, params: dict | None = None, name: str = "h") -
         raise ValueError(f"{name} must be a section side in metres in (0, {limit:g}] (a tenth of the cube side: Euler-Bernoulli "
                          f"members; design range {tr['h_range']} m), got {h!r}: a value in cm or mm?")
     return value
-    return h
 
 
 def _panel_angle(theta: float) -> float:

@@ -88,7 +88,7 @@ def test_a_codesign_study_is_checked_before_any_model(h_min, h_max, n_particles,
 
 
 def test_a_codesign_range_given_as_text_names_the_parameter_and_unit():
-    with pytest.raises(TypeError, match=r"h_min \[m\] must be a real number \[m\], got str '2cm'"):
+    with pytest.raises(TypeError, match=r"h_min must be a real number \[m\], got str '2cm'"):
         codesign.check_study("2cm", 0.03, 24, 20, 31)
     codesign.check_study(0.02, 0.025, 24, 20, 31)  # a new range inside the design range is fine
 

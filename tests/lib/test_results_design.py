@@ -221,3 +221,15 @@ def test_a_truncated_checkpoint_names_the_file(tmp_path: pathlib.Path) -> None:
         pso.load_state(path)
     with pytest.raises(ValueError, match=r"07_pso_checkpoint\.json is not valid JSON"):
         results.read_keyed(path, {"a": 1})
+
+
+def test_written_files_are_readable_as_ordinary_new_files(tmp_path: pathlib.Path) -> None:
+    """mkstemp makes its file the owner's only: a results folder shared by a group must stay readable to it."""
+    import os
+
+    umask = os.umask(0o022)
+    try:
+        path = results.write_json(tmp_path / "r.json", {"a": 1})
+    finally:
+        os.umask(umask)
+    assert path.stat().st_mode & 0o777 == 0o644

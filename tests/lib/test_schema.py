@@ -30,6 +30,8 @@ def test_the_stored_parameters_pass():
     (lambda p: p["hub"]["inertia"][0].__setitem__(1, 50.0), r"hub\.inertia \[kg m\^2\] must be a symmetric positive definite"),
     (lambda p: p["choices"].update(effort="force"), r"choices\.effort \[-\] must be one of \['command', 'transmitted'\]"),
     (lambda p: p["truss"].update(h_range=[0.03, 0.015]), r"truss\.h_range \[m\] must be \(low, high\) with 0 < low < high"),
+    (lambda p: p["solar_panel"].pop("factors"), r"the field solar_panel\.factors is missing"),
+    (lambda p: p["solar_panel"]["factors"].pop(), r"solar_panel\.factors must have one row per mode of solar_panel\.omega \(3\), got 2"),
 ])
 def test_a_bad_field_is_named_with_its_unit_and_range(change, match):
     with pytest.raises(ValueError, match=r"params: " + match):
@@ -43,12 +45,29 @@ def test_an_edited_parameters_file_is_checked_on_load(tmp_path, monkeypatch):
     del params["pma"]["stiffness"]
     path.write_text(json.dumps(params))
     monkeypatch.setattr(paths, "PACKAGE_DATA", tmp_path / "data")
-    spacecraft.load_parameters.cache_clear()
-    try:
-        with pytest.raises(ValueError, match=rf"{path}: the field pma\.stiffness is missing"):
-            spacecraft.load_parameters()
-        path.write_text(path.read_text()[:100])
-        with pytest.raises(ValueError, match=rf"{path} is not valid JSON"):
-            spacecraft.load_parameters()
-    finally:
-        spacecraft.load_parameters.cache_clear()
+    with pytest.raises(ValueError, match=rf"{path}: the field pma\.stiffness is missing"):
+        spacecraft.load_parameters()
+    path.write_text(path.read_text()[:100])
+    with pytest.raises(ValueError, match=rf"{path} is not valid JSON"):
+        spacecraft.load_parameters()
+
+
+def test_an_edit_of_the_parameters_file_is_seen_by_a_running_kernel(tmp_path, monkeypatch):
+    """The parameters (and their fingerprint, the key of stored results) follow the file: a kernel that loaded them
+    before an edit does not go on with the old values."""
+    shutil.copytree(paths.PACKAGE_DATA, tmp_path / "data")
+    monkeypatch.setattr(paths, "PACKAGE_DATA", tmp_path / "data")
+    path = tmp_path / "data" / "spacecraft" / "parameters.json"
+    before = spacecraft.parameters_fingerprint()
+    assert spacecraft.load_parameters()["hub"]["mass"] == 800.0
+    params = json.loads(path.read_text())
+    params["hub"]["mass"] = 400.0
+    path.write_text(json.dumps(params, indent=2))
+    assert spacecraft.load_parameters()["hub"]["mass"] == 400.0 and spacecraft.parameters_fingerprint() != before
+
+
+def test_numpy_numbers_are_numbers():
+    import numpy as np
+
+    params = _edited(lambda p: p["hub"].update(mass=np.float32(640.0), mass_uncertainty=np.float64(0.2)))
+    schema.check_parameters(params)
