@@ -32,18 +32,21 @@ def test_dataclass_is_converted() -> None:
 
 
 def test_save_results_is_atomic(tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    results.save_results("x", {"J_c": 0.5}, tmp_path)
-    real = pathlib.Path.write_text
+    """An interrupt while the new file is being written (here: as it is flushed to disk) leaves the previous file
+    whole and no temporary file behind."""
+    import os
 
-    def interrupted(self: pathlib.Path, text: str, *args, **kwargs) -> int:  # truncates, writes half, then dies
-        real(self, text[: len(text) // 2])
+    results.save_results("x", {"J_c": 0.5}, tmp_path)
+
+    def interrupted(fd: int) -> None:
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(pathlib.Path, "write_text", interrupted)
+    monkeypatch.setattr(os, "fsync", interrupted)
     with pytest.raises(KeyboardInterrupt):
         results.save_results("x", {"J_c": 0.7}, tmp_path)
     monkeypatch.undo()
     assert results.load_results("x", tmp_path)["results"] == {"J_c": 0.5}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.json"]
 
 
 def test_load_results_restores_non_finite_floats(tmp_path: pathlib.Path) -> None:
