@@ -3,22 +3,19 @@ numbers of the README's "results at a glance" paragraph are the table's."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import re
 import shutil
 from pathlib import Path
 
 import pytest
+from _scripts import load_script
 
 ROOT = Path(__file__).parents[1]
 
 
 def _summary():
-    spec = importlib.util.spec_from_file_location("summary", ROOT / "scripts" / "summary.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script("summary")
 
 
 def test_readme_table_is_the_summary_of_the_stored_results() -> None:

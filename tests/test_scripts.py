@@ -220,9 +220,7 @@ def test_an_unknown_parameter_name_is_refused_with_the_allowed_ones(tmp_path: Pa
 
 def test_the_smoke_parameters_are_the_notebooks_own() -> None:
     """tests/smoke/ is a parameter folder like any other: every file is named after a notebook, every name declared."""
-    import importlib.util
+    from _scripts import load_script
 
-    spec = importlib.util.spec_from_file_location("check_params", ROOT / "scripts" / "check_params.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = load_script("check_params")
     assert module.problems(ROOT / "tests" / "smoke", module.declared()) == []
