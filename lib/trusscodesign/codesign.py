@@ -15,6 +15,7 @@ is logged; it never stops the run. Particles of an iteration are evaluated in pa
 from __future__ import annotations
 
 import json
+import os
 import time
 import traceback
 import warnings
@@ -286,6 +287,7 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     from tqdm.auto import tqdm
 
     _check_batch(hs, m0, synthesis_options, params)
+    params = params or spacecraft.load_parameters()  # read here, once: the workers evaluate with these, not their own file's
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
     kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
     keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
@@ -367,8 +369,9 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         JSON file written after every ``chunk`` evaluations with ``key``; a rerun with the same ``key`` (and
         number of points) evaluates only the missing points, so an interrupted grid loses at most one chunk.
     key : dict, optional
-        What the records depend on (grid, settings, synthesis options and version): a cache with another key
-        is recomputed. Default: the grid, the settings, the synthesis version and ``kwargs``. A cache whose records
+        What the records depend on: a cache with another key is recomputed. Default: :func:`grid_key` (the grid, the
+        settings, the synthesis options and version, the parameters' fingerprint, the model's version) and the other
+        ``kwargs``. A cache whose records
         are at other h than ``hs`` is refused whatever the key.
     chunk : int
         Evaluations between two saves (a multiple of the number of workers keeps them busy).
@@ -391,9 +394,10 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
     _check_batch(hs, kwargs.get("m0", M0_PAPER), kwargs.get("synthesis_options"), kwargs.get("params"))
     check_option("chunk", chunk, 1, integer=True)
     h = np.asarray(hs, dtype=float)
+    kwargs["params"] = kwargs.get("params") or spacecraft.load_parameters()  # read once, here: every worker gets these
     if key is None:
-        key = {"h": h.tolist(), "settings": None if settings is None else settings.__dict__, "algorithm": synthesis.ALGORITHM,
-               "kwargs": kwargs}
+        key = grid_key(hs, settings or LoopSettings.from_parameters(), kwargs.get("synthesis_options"), kwargs["params"])
+        key["kwargs"] = {k: v for k, v in kwargs.items() if k != "params"}
     # one run at a time on a grid cache: another live run holding it stops this one at once, naming it
     with run_lock(cache) if cache is not None else nullcontext():
         stored, key = read_keyed(cache, key)
@@ -421,22 +425,22 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
 def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: dict | None = None,
              params: dict | None = None) -> dict:
     """The key of a stored grid of the objective (notebook 07's ``07_grid*.json``, :func:`evaluate_grid`'s ``key``):
-    the section sides [m], the loop settings, the synthesis options and version, and the spacecraft parameters'
-    fingerprint (:func:`trusscodesign.spacecraft.parameters_fingerprint`); a grid stored under another key is
-    recomputed."""
+    the section sides [m], the loop settings, the synthesis options and version, the spacecraft parameters'
+    fingerprint (:func:`trusscodesign.spacecraft.parameters_fingerprint`) and the model's version
+    (:data:`trusscodesign.spacecraft.MODEL`); a grid stored under another key is recomputed."""
     return {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": synthesis_options or SYNTHESIS_OPTIONS,
-            "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params)}
+            "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params), "model": spacecraft.MODEL}
 
 
 def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float) -> dict:
     """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters
-    (:func:`trusscodesign.spacecraft.parameters_fingerprint`, of the package's parameters when ``params`` is None) and
-    m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
+    (:func:`trusscodesign.spacecraft.parameters_fingerprint`, of the package's parameters when ``params`` is None), the
+    model's version (:data:`trusscodesign.spacecraft.MODEL`) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
     digest = spacecraft.parameters_fingerprint(params)
     # settings=None is what trusscodesign.design.robust_design then takes, the data file's settings: stored resolved, so that a run
     # with None and one with those settings given are the same objective
     resolved = LoopSettings.from_parameters() if settings is None else settings
-    key = {"settings": resolved.__dict__, "params_sha256": digest, "m0": float(m0)}
+    key = {"settings": resolved.__dict__, "params_sha256": digest, "model": spacecraft.MODEL, "m0": float(m0)}
     return json.loads(json.dumps(key, default=str))  # as it reads back from a checkpoint
 
 
@@ -518,10 +522,34 @@ def _check_h_range(h_range: object, params: dict | None = None) -> None:
                          "widen truss.h_range in the parameters (lib/trusscodesign/data/spacecraft/parameters.json, or the params passed)")
 
 
+def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequence[float], seed: int, pso_rule: str,
+                         synthesis_options: dict | None, objective: dict) -> str | None:
+    """Why the swarm checkpoint stored at ``checkpoint`` cannot be resumed by a run with these settings (None if it can):
+    another synthesis version or options, another objective (:func:`_objective_key`: what changed is named), or
+    another swarm (size, seed, range or rule)."""
+    from . import pso
+
+    state = pso.load_state(checkpoint)
+    found = state.extra.get("algorithm")
+    if found != synthesis.ALGORITHM:
+        return f"it was computed by the synthesis {found!r}, not the current {synthesis.ALGORITHM!r}"
+    if _normalised_options(state.extra.get("options")) != _normalised_options(synthesis_options):
+        return f"it was computed with synthesis options {state.extra.get('options')!r}, not {synthesis_options!r}"
+    stored = state.extra.get("objective", {})
+    if not _same_objective(stored, objective):
+        return f"it was computed for another objective ({_changes(stored, objective)})"
+    same_range = np.array_equal(state.lower, [float(h_range[0])]) and np.array_equal(state.upper, [float(h_range[1])])
+    if state.n != n_particles or state.seed != seed or not same_range or state.rule != pso_rule:
+        return (f"it is from another swarm (n_particles={state.n}, seed={state.seed}, h range [{state.lower[0]}, "
+                f"{state.upper[0]}] m, rule {state.rule!r})")
+    return None
+
+
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
                  client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
                  m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
-                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None, pso_rule: str = "documented"):
+                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None, pso_rule: str = "documented",
+                 on_stale: str = "refuse"):
     """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
 
     Parameters
@@ -547,6 +575,10 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     pso_rule : {"documented", "matlab"}
         MATLAB ``particleswarm``'s adaptive rules as documented (default; the stored swarms) or as its code applies
         them (:mod:`trusscodesign.pso`); a checkpoint is only resumed with the rule it was started with.
+    on_stale : {"refuse", "restart"}
+        What to do with a checkpoint that this run cannot resume (another synthesis, objective or swarm: edited
+        spacecraft parameters, say): raise a ValueError naming what changed (default), or set it aside as
+        ``<checkpoint>.stale.json``, log what changed and start afresh (notebook 07: a rerun after an edit recomputes).
 
     Returns
     -------
@@ -562,21 +594,22 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     _check_h_range(h_range, params)
     objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
     _check_synthesis_options(synthesis_options)  # likewise: a bad option would fail every particle of every iteration
+    if on_stale not in ("refuse", "restart"):
+        raise ValueError(f"on_stale must be 'refuse' or 'restart', got {on_stale!r}")
+    params = params or spacecraft.load_parameters()  # read once: the key and every evaluation use these values
     # one run at a time on a checkpoint: another live run holding it stops this one at once, naming it
     with run_lock(checkpoint) if checkpoint is not None else nullcontext():
         objective = _objective_key(settings, params, m0)
         if checkpoint is not None and Path(checkpoint).exists():
-            extra = pso.load_state(checkpoint).extra
-            found = extra.get("algorithm")
-            if found != synthesis.ALGORITHM:
-                raise ValueError(f"checkpoint {checkpoint} was computed by the synthesis {found!r}, not the current "
-                                 f"{synthesis.ALGORITHM!r}: delete it (or pass another checkpoint path) to rerun")
-            if _normalised_options(extra.get("options")) != _normalised_options(synthesis_options):
-                raise ValueError(f"checkpoint {checkpoint} was computed with synthesis options {extra.get('options')!r}, not "
-                                 f"{synthesis_options!r}: pass another checkpoint path (or the same options) to run")
-            if not _same_objective(extra.get("objective", {}), objective):
-                raise ValueError(f"checkpoint {checkpoint} was computed for another objective ({_changes(extra.get('objective', {}), objective)}): "
-                                 "pass another checkpoint path (results_dir) to run, or delete it to recompute")
+            reason = _checkpoint_mismatch(checkpoint, n_particles, h_range, seed, pso_rule, synthesis_options, objective)
+            if reason is not None and on_stale == "refuse":
+                raise ValueError(f"checkpoint {checkpoint} cannot be resumed by this run: {reason}. Pass another checkpoint "
+                                 "path (results_dir), delete it to recompute, or on_stale='restart' to set it aside and start afresh")
+            if reason is not None:  # "restart": kept beside, never overwritten by the new run
+                aside = Path(checkpoint).with_name(Path(checkpoint).stem + ".stale.json")
+                os.replace(checkpoint, aside)
+                partial_path(checkpoint).unlink(missing_ok=True)  # (the stale run's evaluations, keyed on it)
+                log(f"checkpoint {checkpoint} set aside as {aside.name}, and the swarm starts afresh: {reason}")
 
         def evaluate(x: NDArray, state) -> list[dict]:
             t0 = time.perf_counter()

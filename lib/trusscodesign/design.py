@@ -300,7 +300,8 @@ def stored_design(source: str | int = "auto", results_dir: str = "data/results",
     Raises
     ------
     ValueError
-        For another ``source``, or if notebook 06 stored no design at ``h_fallback``.
+        For another ``source``, if notebook 06 stored no design at ``h_fallback``, or if the design read was computed
+        from other spacecraft parameters or another model than today's (:func:`trusscodesign.spacecraft.inputs_key`).
     FileNotFoundError
         If the results file of the notebook asked for is missing.
     """
@@ -310,24 +311,38 @@ def stored_design(source: str | int = "auto", results_dir: str = "data/results",
         raise ValueError(f"design_source must be 'auto', '06' or '07', got {source!r}")
     if name in ("auto", "07"):
         try:
-            best = results.load_results("07_pso_codesign", results_dir)["results"]["optimum"]
+            stored07 = results.load_results("07_pso_codesign", results_dir)
+            best = stored07["results"]["optimum"]
         except (FileNotFoundError, KeyError):
             if name == "07":
                 raise
         else:
+            _check_inputs(stored07, "notebook 07's optimum", "07")
             if isinstance(best, dict) and best.get("status", "ok") != "ok":  # files before 2026-12-03 hold no status
                 raise ValueError(f"notebook 07's optimum is not a valid design ({best['status']}): rerun notebook 07")
             return "07", *_checked_design(best.get("h") if isinstance(best, dict) else None,
                                           best.get("gain") if isinstance(best, dict) else None, "notebook 07's optimum")
     if not (isinstance(h_fallback, (int, float, np.floating)) and not isinstance(h_fallback, bool) and np.isfinite(h_fallback)):
         raise ValueError(f"h_fallback must be a finite section side [m], got {h_fallback!r}")
-    stored = results.load_results("06_robust_synthesis", results_dir)["results"]["designs"]
+    stored06 = results.load_results("06_robust_synthesis", results_dir)
+    _check_inputs(stored06, "notebook 06's designs", "06")
+    stored = stored06["results"]["designs"]
     key = f"{100 * h_fallback:.3f}"
     if key not in stored or abs(float(key) - 100 * h_fallback) > 1e-9:  # the keys hold h to 1e-5 cm: another h is not it
         raise ValueError(f"notebook 06 stored no design at h = {h_fallback} m (it has {sorted(stored)} cm): rerun it with this h")
     if stored[key].get("success") is False:
         raise ValueError(f"notebook 06's design at {key} cm failed its synthesis ({stored[key].get('message')}): not a design to analyse")
     return "06", *_checked_design(float(h_fallback), stored[key].get("gain"), f"notebook 06's design at {key} cm")
+
+
+def _check_inputs(payload: dict, what: str, notebook: str) -> None:
+    """Raise a ValueError naming what changed unless a results file was computed from the current spacecraft parameters
+    and model (:func:`trusscodesign.spacecraft.inputs_key`)."""
+    stored, now = payload.get("inputs") or {}, spacecraft.inputs_key()
+    if stored != now:
+        changed = "; ".join(f"{k}: {stored.get(k)!r} stored, {now[k]!r} now" for k in now if stored.get(k) != now[k])
+        raise ValueError(f"{what}: computed from other inputs than today's ({changed}): rerun notebook {notebook} "
+                         "with the current spacecraft parameters, or restore the parameters it was computed with")
 
 
 def _checked_design(h: object, gain: object, what: str) -> tuple[float, NDArray]:

@@ -167,11 +167,13 @@ def normalise_key(key: Any) -> Any:
 
 
 def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "data/results",
-                 parameters: dict[str, Any] | None = None) -> Path:
+                 parameters: dict[str, Any] | None = None, inputs: dict[str, str] | None = None) -> Path:
     """Write ``results`` (and the run's ``parameters``) to ``<results_dir>/<name>.json``.
 
-    The file also records the library version and the version of the synthesis optimiser
-    (:data:`trusscodesign.synthesis.ALGORITHM`), on which every robust design depends.
+    The file also records the library version, the version of the synthesis optimiser
+    (:data:`trusscodesign.synthesis.ALGORITHM`), on which every robust design depends, and ``inputs``: what identifies
+    the input data the results were computed from (e.g. :func:`trusscodesign.spacecraft.inputs_key`, the spacecraft
+    parameters' fingerprint and the model's version), against which a reader checks them.
 
     Returns the path written.
     """
@@ -184,6 +186,7 @@ def save_results(name: str, results: dict[str, Any], results_dir: str | Path = "
         "synthesis_algorithm": ALGORITHM,
         "python": platform.python_version(),
         "parameters": to_jsonable(parameters or {}),
+        "inputs": dict(inputs or {}),
         "results": to_jsonable(results),
     }
     return write_json(folder / f"{name}.json", payload, indent=2)  # atomic: an interrupted save keeps the previous file

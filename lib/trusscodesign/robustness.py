@@ -28,6 +28,7 @@ cost of about two minutes per transfer and angle on the spacecraft, so notebook 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
+from contextlib import nullcontext
 from dataclasses import asdict, dataclass, field
 from inspect import signature
 from typing import Any
@@ -43,7 +44,8 @@ from .closedloop import LoopSettings
 from .lft import LFT, block_runs
 from .mu import _MAX_COND, LowerBound, _box_corners, lft_upper, wc_gain_lower, wc_gain_upper, wc_gain_upper_bb
 from .mu_interval import CertifiedUpper, wc_gain_upper_certified
-from .results import read_keyed, write_json
+from .results import read_keyed, run_lock, write_json
+from .spacecraft import MODEL
 from .synthesis import Scenario, plant_at
 
 __all__ = ["KEEP", "METHOD", "ModalResponse", "AngleBounds", "bounds_at_angle", "certify_at_angle", "physical_deltas", "sweep"]
@@ -454,7 +456,16 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     bound = signature(bounds_at_angle).bind_partial(**options)
     bound.apply_defaults()
     key = dict(model=partial_key, gain=gain.tolist(), inertia=np.asarray(inertia_p1, dtype=float).tolist(), settings=settings.__dict__,
-               options=dict(bound.arguments), method=METHOD)  # the options given and the defaults of the others
+               options=dict(bound.arguments), method=METHOD, model_version=MODEL)  # the options given and the defaults of the others
+    # one sweep at a time on a partial file: another live run holding it stops this one at once, naming it
+    with run_lock(partial) if partial is not None else nullcontext():
+        return _sweep(model_low, angles, gain, inertia_p1, settings, client, progress, partial, key, options)
+
+
+def _sweep(model_low: LFT, angles: NDArray, gain: NDArray, inertia_p1: ArrayLike, settings: LoopSettings, client,
+           progress: Callable[[Iterable], Iterable], partial: str | Path | None, key: dict,
+           options: dict) -> list[dict[str, AngleBounds]]:
+    """:func:`sweep` once its inputs are checked and its partial file (if any) is locked."""
     stored, key = read_keyed(partial, key)
     records = stored["records"] if stored else {}
     tags = [repr(float(th)) for th in angles]

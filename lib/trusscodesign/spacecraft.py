@@ -32,13 +32,18 @@ from .reduction import modal_reduction, static_gain
 from .titop import Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["load_parameters", "parameters_fingerprint", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+__all__ = ["MODEL", "load_parameters", "parameters_fingerprint", "inputs_key", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
            + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
 
+
+# Version of the model built from the parameters (the TITOP beams, their damping, the assembly, the reduction): stored
+# with every result and cache key beside the parameters' fingerprint, so that results of another model are never
+# reused. Change it with any change of the code that moves the model's poles, residues or DC gains.
+MODEL = "TITOP T-truss spacecraft v1"
 
 _LOADED: dict[tuple[str, int, int], dict] = {}  # the parameters as last read, keyed by the file's path, time and size
 
@@ -81,6 +86,13 @@ def parameters_fingerprint(params: dict | None = None) -> str:
 
     text = json.dumps(values(load_parameters() if params is None else params), sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()
+
+
+def inputs_key(params: dict | None = None) -> dict[str, str]:
+    """What a result computed from the spacecraft model depends on besides its own settings: the parameters'
+    fingerprint (:func:`parameters_fingerprint`, default: the package's parameters) and the model's version
+    (:data:`MODEL`); stored with the results (:func:`trusscodesign.results.save_results`' ``inputs``)."""
+    return {"spacecraft_parameters": parameters_fingerprint(params), "model": MODEL}
 
 
 def _finite(value: float, name: str, positive: bool = False) -> float:

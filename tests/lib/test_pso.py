@@ -2,6 +2,7 @@
 and the same result through Dask with 1 and 2 workers; the co-design objective's penalty and failure handling."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -704,6 +705,18 @@ def test_edited_parameters_refuse_the_stored_swarm_and_recompute_the_grid(tmp_pa
     ck.write_text(json.dumps(state))
     with pytest.raises(ValueError, match=r"the spacecraft parameters \(their fingerprint\): None stored"):
         codesign.run_codesign(2, 3, checkpoint=ck, **run)
+    # notebook 07's choice: the stale checkpoint is set aside (kept as it was) and the swarm recomputed, saying why
+    stale, logged = ck.read_bytes(), []
+    state = codesign.run_codesign(2, 3, checkpoint=ck, params=edited, on_stale="restart", **dict(run, log=logged.append))
+    assert state.iteration == 3 and len(state.history) == 6  # every iteration evaluated afresh
+    assert (tmp_path / "07_pso_checkpoint.stale.json").read_bytes() == stale
+    assert re.search(r"set aside as 07_pso_checkpoint.stale.json, and the swarm starts afresh: it was computed for another "
+                     r"objective \(the spacecraft parameters \(their fingerprint\): None stored", logged[0]), logged[0]
+    assert json.loads(ck.read_text())["extra"]["objective"]["params_sha256"] == spacecraft.parameters_fingerprint(edited)
+    with pytest.raises(ValueError, match=r"from another swarm \(n_particles=2, seed=0"):  # another swarm on the same file
+        codesign.run_codesign(3, 3, checkpoint=ck, params=edited, **run)
+    with pytest.raises(ValueError, match="on_stale must be 'refuse' or 'restart'"):
+        codesign.run_codesign(2, 3, checkpoint=ck, on_stale="recompute", **run)
 
     evaluated = []
 

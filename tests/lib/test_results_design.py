@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from trusscodesign import design, results
+from trusscodesign import design, results, spacecraft
 
 
 def test_complex_non_finite_and_complex64_give_valid_json() -> None:
@@ -29,6 +29,9 @@ def test_dataclass_is_converted() -> None:
         b: np.ndarray | None = None
 
     assert results.to_jsonable(D(b=np.arange(2))) == {"a": "inf", "b": [0, 1]}
+
+
+INPUTS = spacecraft.inputs_key()  # what the stored designs of notebooks 06 and 07 are computed from
 
 
 def test_save_results_is_atomic(tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -91,7 +94,7 @@ def test_truss_shift_check_refuses_bad_gains_before_building() -> None:
 
 def _store(tmp_path: pathlib.Path) -> np.ndarray:
     gain = np.arange(32.0).reshape(4, 8)
-    results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": gain}, "3.000": {"gain": -gain}}}, tmp_path)
+    results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": gain}, "3.000": {"gain": -gain}}}, tmp_path, inputs=INPUTS)
     return gain
 
 
@@ -112,7 +115,7 @@ def test_stored_design_06_exact_h(tmp_path: pathlib.Path) -> None:
                                      {"h": float("nan"), "gain": np.zeros((4, 8))}, {"h": 0.02, "gain": np.full((4, 8), np.inf)}])
 def test_stored_design_07_refuses_a_broken_optimum(tmp_path: pathlib.Path, optimum: dict) -> None:
     _store(tmp_path)
-    results.save_results("07_pso_codesign", {"optimum": optimum}, tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": optimum}, tmp_path, inputs=INPUTS)
     for source in ("07", "auto"):
         with pytest.raises(ValueError, match="optimum"):
             design.stored_design(source, str(tmp_path))
@@ -120,7 +123,7 @@ def test_stored_design_07_refuses_a_broken_optimum(tmp_path: pathlib.Path, optim
 
 def test_stored_design_06_refuses_a_failed_synthesis(tmp_path: pathlib.Path) -> None:
     results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": np.ones((4, 8)), "success": False,
-                                                                        "message": "stopped after 6 rounds"}}}, tmp_path)
+                                                                        "message": "stopped after 6 rounds"}}}, tmp_path, inputs=INPUTS)
     with pytest.raises(ValueError, match="failed"):
         design.stored_design("06", str(tmp_path), 0.02139)
 
@@ -128,10 +131,10 @@ def test_stored_design_06_refuses_a_failed_synthesis(tmp_path: pathlib.Path) -> 
 def test_stored_design_07_refuses_a_penalised_optimum(tmp_path: pathlib.Path) -> None:
     """With every particle failed or penalised, the swarm's best f^n is still finite (m/m0 + 10): its status says it."""
     _store(tmp_path)
-    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "penalty: J_c > 2"}}, tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "penalty: J_c > 2"}}, tmp_path, inputs=INPUTS)
     with pytest.raises(ValueError, match="not a valid design"):
         design.stored_design("auto", str(tmp_path))
-    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "ok"}}, tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": np.ones((4, 8)), "status": "ok"}}, tmp_path, inputs=INPUTS)
     assert design.stored_design("auto", str(tmp_path))[:2] == ("07", 0.02)
 
 
@@ -154,7 +157,7 @@ def test_stored_design_07_without_a_status_is_accepted(tmp_path: pathlib.Path) -
     """Results files written before 2026-12-03 hold no status in the optimum: it is taken as valid."""
     _store(tmp_path)
     gain = np.full((4, 8), -2.0)
-    results.save_results("07_pso_codesign", {"optimum": {"h": 0.0215, "gain": gain}}, tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.0215, "gain": gain}}, tmp_path, inputs=INPUTS)
     src, h, k = design.stored_design("auto", str(tmp_path))
     assert (src, h) == ("07", 0.0215) and np.array_equal(k, gain)
 
@@ -162,7 +165,7 @@ def test_stored_design_07_without_a_status_is_accepted(tmp_path: pathlib.Path) -
 def test_stored_design_takes_papermills_integer_sources(tmp_path: pathlib.Path) -> None:
     """6 and 7 (papermill's -p turns "06" into 6) are the same sources as "06" and "07"."""
     gain = _store(tmp_path)
-    results.save_results("07_pso_codesign", {"optimum": {"h": 0.0215, "gain": -gain, "status": "ok"}}, tmp_path)
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.0215, "gain": -gain, "status": "ok"}}, tmp_path, inputs=INPUTS)
     assert design.stored_design(7, str(tmp_path))[:2] == ("07", 0.0215)
     src, h, k = design.stored_design(6, str(tmp_path), 0.02139)
     assert (src, h) == ("06", 0.02139) and np.array_equal(k, gain)
@@ -236,3 +239,23 @@ def test_written_files_are_readable_as_ordinary_new_files(tmp_path: pathlib.Path
     finally:
         os.umask(umask)
     assert path.stat().st_mode & 0o777 == 0o644
+
+
+def test_stored_design_refuses_a_design_of_other_spacecraft_parameters(tmp_path: pathlib.Path) -> None:
+    """Notebook 08 analysed notebook 07's optimum whatever parameters it was computed from: a design of other parameters (or
+    of another model version, or a file without them) is refused, naming what changed."""
+    gain = np.ones((4, 8))
+    edited = json.loads(json.dumps(spacecraft.load_parameters()))
+    edited["hub"]["mass"] = 720.0
+    results.save_results("07_pso_codesign", {"optimum": {"h": 0.02, "gain": gain, "status": "ok"}}, tmp_path,
+                         inputs=spacecraft.inputs_key(edited))
+    with pytest.raises(ValueError, match=r"notebook 07's optimum: computed from other inputs than today's \(spacecraft_parameters: "
+                                         r"'[0-9a-f]{64}' stored, '[0-9a-f]{64}' now\): rerun notebook 07"):
+        design.stored_design("07", str(tmp_path))
+    results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": gain}}}, tmp_path,
+                         inputs={**INPUTS, "model": "an older model"})
+    with pytest.raises(ValueError, match=r"notebook 06's designs: computed from other inputs than today's \(model: 'an older model' stored"):
+        design.stored_design("06", str(tmp_path), 0.02139)
+    results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": gain}}}, tmp_path)  # no inputs recorded
+    with pytest.raises(ValueError, match="spacecraft_parameters: None stored"):
+        design.stored_design("06", str(tmp_path), 0.02139)

@@ -1,0 +1,50 @@
+"""Every notebook checks its parameters before any work: a bad value stops it in the cell right after the parameters, with
+a message naming the parameter, its unit and the allowed range (papermill batch runs pass them as -p or YAML)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+CASES = [  # (notebook, bad parameters, what the message must say)
+    ("01_titop_beam", {"n_omega": 1}, r"n_omega must be an integer in [2, inf)"),
+    ("01_titop_beam", {"omega_max": 0.5}, r"omega_max must be a number in (1, inf) rad/s, got 0.5"),
+    ("02_mechanisms_2d", {"alpha_l": 90.0}, r"alpha_l must be a number in (0, 3.14159) rad, got 90.0"),
+    ("03_cube_vs_nastran", {"fe_nastran_elements": 0}, r"fe_nastran_elements must be an integer in [1, inf)"),
+    ("03_cube_vs_nastran", {"other_h": -0.02}, r"other_h must be a number in (0, inf) m"),
+    ("04_t_truss_spacecraft", {"theta": 90.0}, r"theta must be a number in [-3.14159, 3.14159] rad, got 90.0"),
+    ("05_lft_reduction", {"h_figure": 2.139}, r"h_figure must be a section side in metres in (0, 0.1]"),
+    ("05_lft_reduction", {"omega_band": 1000.0}, r"omega_band must be a number in (0, 500] rad/s"),
+    ("06_robust_synthesis", {"sensitivity": ["baseline", "u_max_50"]}, r"sensitivity entries must be one of ['baseline'"),
+    ("06_robust_synthesis", {"show_spillover": "no"}, r"show_spillover must be True or False, got str 'no'"),
+    ("06_robust_synthesis", {"h_values": [0.02139, 3.0]}, r"h_values[1] must be a section side in metres"),
+    ("07_pso_codesign", {"pso_rule": "MATLAB"}, r"pso_rule must be one of ['documented', 'matlab'], got 'MATLAB'"),
+    ("07_pso_codesign", {"run_preset": "False"}, r"run_preset must be True or False, got str 'False'"),
+    ("07_pso_codesign", {"preset_particles": 0}, r"preset_particles must be an integer in [2, inf), got 0"),
+    ("07_pso_codesign", {"trust_region": "circle"}, r"trust_region"),
+    ("08_worst_case_mu", {"certify_groups": ["RPE"]}, r"certify_groups entries must be one of ['rpe', 'effort'], got 'RPE'"),
+    ("08_worst_case_mu", {"samples_per_period": 4}, r"samples_per_period must be an integer in [8, inf), got 4"),
+    ("08_worst_case_mu", {"h_shifts": [2.0]}, r"h_shifts[0] must be a number in [-0.5, 0.5] (relative), got 2.0"),
+]
+
+
+@pytest.mark.parametrize("notebook, bad, message", CASES, ids=[f"{n[:2]}-{next(iter(b))}" for n, b, _ in CASES])
+def test_a_bad_parameter_stops_the_notebook_before_any_work(tmp_path: Path, notebook: str, bad: dict, message: str) -> None:
+    import papermill as pm
+
+    out = tmp_path / f"{notebook}.ipynb"
+    parameters = {"results_dir": str(tmp_path / "results"), "figures_dir": str(tmp_path / "figures"), **bad}
+    with pytest.raises(pm.PapermillExecutionError) as err:
+        pm.execute_notebook(ROOT / "notebooks" / f"{notebook}.ipynb", out, parameters=parameters, cwd=ROOT / "notebooks",
+                            progress_bar=False, log_output=False)
+    assert message in str(err.value), str(err.value)[-2000:]
+    # the failed cell is the one right after the parameters (papermill's injected cell follows them): no model was built
+    cells = [c for c in json.loads(out.read_text())["cells"] if c["cell_type"] == "code"]
+    tags = [c["metadata"].get("tags", []) for c in cells]
+    first = tags.index(["injected-parameters"]) + 1
+    assert any(o.get("output_type") == "error" for o in cells[first]["outputs"]), f"cell {first} did not fail"
+    assert all(c["execution_count"] is None for c in cells[first + 1:]), "a cell after the checks ran"
