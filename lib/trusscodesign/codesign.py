@@ -19,7 +19,7 @@ import os
 import time
 import traceback
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import nullcontext
 from pathlib import Path
 from typing import Any, cast
@@ -310,12 +310,12 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
         for h, fail in todo:
             finished((h, fail), evaluate_particle(h, gain0, fail=fail, **kw))
     else:
-        from dask.distributed import KilledWorker, as_completed
+        from dask.distributed import KilledWorker
 
         futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, retries=retries, **kw): (h, fail)
                    for h, fail in todo}
         lost = []
-        for fut in as_completed(futures):
+        for fut in _as_finished(client, futures):
             try:
                 finished(futures[fut], fut.result())
             except KilledWorker:  # (evaluate_particle never raises) its workers died: this particle's doing, or another's
@@ -324,13 +324,44 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
         # with it: each lost particle runs again alone, and only one that still ends its worker is a failed particle
         for h, fail in lost:
             try:
-                rec = client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw).result()
+                alone = client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw)
+                rec = next(_as_finished(client, [alone])).result()
             except KilledWorker as exc:
                 rec = lost_evaluation(h, f"the evaluation ended its worker every time (KilledWorker: {exc})", params, m0)
             finished((h, fail), rec)  # saved in the partial file: a resume does not run it again
     bar.close()
     first = {k: i for i, k in reversed(list(enumerate(keys)))}
     return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
+
+
+WORKERLESS_S = 120.0  # s without any worker after which a wait on the cluster gives up (its workers died for good)
+_POLL_S = 10.0  # s between two looks at the cluster while waiting
+
+
+def _as_finished(client, futures) -> Iterator:
+    """The futures, as they finish; a RuntimeError once the cluster has had no worker for :data:`WORKERLESS_S`.
+
+    ``dask.distributed.as_completed`` waits for ever when every worker has died and none was restarted (seen with a
+    nanny that could not restart its worker on an overloaded machine): the co-design would hang instead of stopping
+    with what it has saved.
+    """
+    from dask.distributed import wait
+
+    pending, alone_since = set(futures), None
+    while pending:
+        try:
+            done, pending = wait(pending, timeout=_POLL_S, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            if client.scheduler_info().get("workers"):
+                alone_since = None
+            elif alone_since is None:
+                alone_since = time.monotonic()
+            elif time.monotonic() - alone_since > WORKERLESS_S:
+                raise RuntimeError(f"the Dask cluster has had no worker for {WORKERLESS_S:.0f} s (they died and were not "
+                                   f"restarted) with {len(pending)} evaluations waiting: restart the cluster (the notebook's "
+                                   "kernel) and rerun; every finished evaluation is saved and is not run again") from None
+            continue
+        yield from done
 
 
 def _tag(key: tuple[float, bool]) -> str:

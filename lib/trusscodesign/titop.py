@@ -34,6 +34,7 @@ from .checks import check_option
 from .ports import MultiPortModel, delta_port, node_port
 
 __all__ = [
+    "DAMPING_MODELS",
     "Section",
     "ModalData",
     "square_torsion_constant",
@@ -64,6 +65,9 @@ def square_torsion_constant(h: float) -> float:
     return h**4 / 3.0 * (1.0 - 192.0 / np.pi**5 * np.sum(np.tanh(n * np.pi / 2.0) / n**5))
 
 
+DAMPING_MODELS = ("clamped_modes", "stiffness")  # see Section.damping_model
+
+
 @dataclass(frozen=True)
 class Section:
     """Beam section and material.
@@ -84,7 +88,15 @@ class Section:
     density : float
         Density rho [kg/m^3].
     damping : float
-        Modal damping ratio xi in [0, 1).
+        Damping ratio xi in [0, 1): of every mode of the beam clamped at its P end with ``damping_model`` =
+        ``"clamped_modes"``, of its first such mode with ``"stiffness"``.
+    damping_model : {"clamped_modes", "stiffness"}
+        ``"clamped_modes"`` (the paper's TITOP beam, as the Satellite Dynamics Toolbox builds it): the ratio ``xi`` on
+        each mode of the beam clamped at P. The damping forces then depend on which end is P: an assembled structure's
+        damping depends on the beams' orientation and assembly (``docs/titop.md``, section g). ``"stiffness"``:
+        stiffness-proportional damping ``C = (2 xi / omega_1) K``, ``omega_1`` the beam's first clamped-free frequency
+        (ratio ``xi omega_k / omega_1`` on mode k): it dissipates in proportion to the strain rate's energy, whichever
+        end is P, so an assembled structure's poles do not depend on the orientation or order of its beams.
     """
 
     area: float
@@ -95,6 +107,7 @@ class Section:
     poisson: float = 0.35
     density: float = 2700.0
     damping: float = 0.001
+    damping_model: str = "clamped_modes"
 
     def __post_init__(self) -> None:
         for name, unit in (("area", "m^2"), ("iy", "m^4"), ("iz", "m^4"), ("torsion_constant", "m^4"), ("young", "Pa"), ("density", "kg/m^3")):
@@ -107,10 +120,12 @@ class Section:
             raise ValueError(f"poisson must be in (-1, 0.5], got {self.poisson!r}")
         if not (0.0 <= self.damping < 1.0):
             raise ValueError(f"damping must be in [0, 1), got {self.damping!r}")
+        if self.damping_model not in DAMPING_MODELS:
+            raise ValueError(f"damping_model must be one of {list(DAMPING_MODELS)}, got {self.damping_model!r}")
 
     @classmethod
     def square(cls, h: float, young: float = 70e9, poisson: float = 0.35, density: float = 2700.0,
-               damping: float = 0.001, torsion: str = "polar") -> "Section":
+               damping: float = 0.001, torsion: str = "polar", damping_model: str = "clamped_modes") -> "Section":
         """Full square section of side ``h`` [m]: S = h^2, Iy = Iz = h^4/12.
 
         Parameters
@@ -126,7 +141,7 @@ class Section:
             j = square_torsion_constant(h)
         else:
             raise ValueError(f"torsion must be 'polar' or 'exact', got {torsion!r}")
-        return cls(h**2, h**4 / 12.0, h**4 / 12.0, j, young, poisson, density, damping)
+        return cls(h**2, h**4 / 12.0, h**4 / 12.0, j, young, poisson, density, damping, damping_model)
 
     @property
     def shear_modulus(self) -> float:
@@ -340,7 +355,7 @@ def modal_data(length: float, section: Section, n_modes: int = 1) -> ModalData:
         phi_c=np.asarray(phi_cols)[order].T,
         d_p=rigid_mass(length, section),
         r_pc=np.array([length, 0.0, 0.0]),
-        damping=np.full(omega.size, s.damping),
+        damping=s.damping * (omega / omega[0] if s.damping_model == "stiffness" else np.ones(omega.size)),
     )
 
 
@@ -447,6 +462,11 @@ def clamped_free_lft(length: float, section: Section, h_param, n_modes: int = 1,
     if torsion is None or not section.symmetric:
         raise ValueError(f"clamped_free_lft needs a square section with polar (J = Iy + Iz) or exact (Saint-Venant) torsion; "
                          f"got Iy = {section.iy:.4g}, Iz = {section.iz:.4g}, J / (Iy + Iz) = {ratio:.6g} [m^4]")
+    if section.damping_model != "clamped_modes":
+        # with C = (2 xi / omega_1(h)) K the damping of the axial and torsion modes varies as 1/h, which this LFT in h
+        # (only the bending frequencies vary) does not represent
+        raise ValueError(f"clamped_free_lft builds the 'clamped_modes' damping model only, got {section.damping_model!r}: "
+                         "build the model at a fixed h instead")
     sec0 = Section.square(h_param.center, section.young, section.poisson, section.density, section.damping, torsion)
     md = modal_data(length, sec0, n_modes)
     a, b, cmat, d = titop_matrices(md)

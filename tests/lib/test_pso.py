@@ -827,3 +827,16 @@ def test_a_particle_that_kills_its_worker_is_a_failed_particle_not_the_end_of_th
     monkeypatch.setattr(codesign, "evaluate_particle", never)
     again = codesign.evaluate_swarm([0.02, 0.0222], None, None, progress=False, partial=part, partial_key=key)
     assert [r["status"] for r in again] == [r["status"] for r in recs]
+
+
+def test_a_cluster_whose_workers_all_died_stops_the_run_instead_of_hanging(monkeypatch):
+    """A nanny that could not restart its worker on an overloaded machine left a co-design (and the test above) waiting
+    for ever: the wait now gives up once the cluster has had no worker for codesign.WORKERLESS_S, saying what to do."""
+    pytest.importorskip("dask.distributed")
+    from dask.distributed import Client, LocalCluster
+
+    monkeypatch.setattr(codesign, "WORKERLESS_S", 1.0)
+    monkeypatch.setattr(codesign, "_POLL_S", 0.2)
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
+        with pytest.raises(RuntimeError, match=r"the Dask cluster has had no worker for 1 s .* with 1 evaluations waiting: restart"):
+            codesign.evaluate_swarm([0.02], None, client, progress=False)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from trusscodesign import titop
+from trusscodesign.lft import Parameter
 
 # Three different parameter sets: the paper's aluminium beam, a long steel beam
 # with a rectangular section (Iy != Iz, arbitrary J), a short titanium beam with
@@ -255,3 +256,36 @@ def test_clamped_free_bending_roots_beyond_the_tabulated_four_solve_the_characte
     got = np.sqrt(titop.analytic_frequencies(length, s, "bending_y", "clamped-free", 7) / scale)
     ref = [optimize.brentq(lambda x: np.cos(x) + 1.0 / np.cosh(x), (n - 1) * np.pi, n * np.pi, xtol=1e-14) for n in range(1, 8)]
     np.testing.assert_allclose(got, ref, rtol=1e-6)
+
+
+def _modes(model) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies [rad/s] and damping ratios of a model's flexible poles (one per pair), by frequency."""
+    p = np.linalg.eigvals(model.a)
+    p = p[(p.imag > 0) & (np.abs(p) > 1e-6)]
+    p = p[np.argsort(np.abs(p))]
+    return np.abs(p), -p.real / np.abs(p)
+
+
+def test_the_papers_beam_damping_depends_on_which_end_is_clamped_and_the_stiffness_model_does_not():
+    """One 1 m cantilever (h = 2.139 cm, xi = 1e-3) clamped at P (its own modes) or at C (channel inversion): the same
+    physical beam, the same frequencies. With the paper's damping (xi on the clamped-at-P modes) clamping C instead
+    gives ratios 0.126e-3, 2.28e-3 and 23.3e-3 on the first three modes (each twice: the square section bends alike
+    both ways); with stiffness-proportional damping both give xi omega_k / omega_1, whichever end is clamped."""
+    for model in titop.DAMPING_MODELS:
+        sec = titop.Section.square(0.02139, damping=1e-3, damping_model=model)
+        beam = titop.clamped_free(1.0, sec)
+        (w_p, z_p), (w_c, z_c) = _modes(beam), _modes(beam.invert_ports("P", "C"))
+        assert np.allclose(w_p[:6:2], [110.58, 695.66, 3679.9], rtol=1e-4) and np.allclose(w_c, w_p, rtol=1e-4)
+        if model == "clamped_modes":
+            assert np.allclose(z_p, 1e-3, rtol=1e-9)
+            assert np.allclose(z_c[:6:2], [0.1259e-3, 2.2813e-3, 23.308e-3], rtol=1e-3)  # measured: not a property of the beam
+        else:
+            assert np.allclose(z_p, 1e-3 * w_p / w_p[0], rtol=1e-9)
+            assert np.allclose(z_c, z_p, rtol=1e-6) and np.allclose(w_c, w_p, rtol=1e-9)
+
+
+def test_an_unknown_damping_model_is_refused():
+    with pytest.raises(ValueError, match=r"damping_model must be one of \['clamped_modes', 'stiffness'\], got 'rayleigh'"):
+        titop.Section.square(0.02, damping_model="rayleigh")
+    with pytest.raises(ValueError, match="'clamped_modes' damping model only"):
+        titop.clamped_free_lft(1.0, titop.Section.square(0.02, damping_model="stiffness"), Parameter("h", 0.02, 0.015, 0.03))
