@@ -262,6 +262,8 @@ def damping(dm: dict) -> str:
              f"{t['zeta / as built, 20 modes (min)']:.3f}-{t['(max)']:.3f}"] for t in dm["truss"]]
     freqs = ", ".join(f"{w:g}" for w in dm["truss"][0]["omega_1-3 [rad/s]"])
     bd = dm["block_diagram_vs_constrained"]
+    passive = [[r["truss damping"], f"{r['J_c passive']:.4f}", f"{r['critical omega [rad/s]']:.2f}",
+                f"{r['critical panel angle [deg]']:.1f}"] for r in dm["passive"]]
     return f"""
 **Damping and the beams' orientation** (docs/titop.md, section g). A 1 m cantilever at h = {cm(dm['h'])} cm with the
 paper's damping (ratio xi on the modes clamped at P) has ratios {beam[('clamped_modes', 'P', 1)]:.3g} on its first three
@@ -272,6 +274,10 @@ reversed at random and in random orders (the block diagram's own orientations ag
 {sci(bd['max_rel_freq_diff'])} in frequency and {sci(bd['max_rel_zeta_diff'])} in damping):
 
 {table(['damping model', 'assembly', 'first three ratios [1e-4]', 'ratio to as built, first 20 modes'], rows)}
+
+The passive loop (ACS closed, PMAs off) at the same h, worst case over the uncertainty box:
+
+{table(['truss damping', 'J_c passive', 'critical frequency [rad/s]', 'critical panel angle [deg]'], passive)}
 """
 
 

@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from .titop import DAMPING_MODELS
+
 __all__ = ["check_parameters"]
 
 HUB_POINTS = ("P1", "P2", "P3", "P4", "P5", "P6", "P7")
@@ -99,7 +101,8 @@ FIELDS: tuple[tuple[str, str, Callable], ...] = (
     ("hub.mass", "kg", POSITIVE), ("hub.mass_uncertainty", "-", RATIO), ("hub.inertia", "kg m^2", _inertia),
     ("hub.iyy_uncertainty", "-", RATIO), ("hub.points", "m", _points),
     ("truss.cube_side", "m", POSITIVE), ("truss.young", "Pa", POSITIVE), ("truss.poisson", "-", _number(-1.0, 0.5, True, True)),
-    ("truss.density", "kg/m^3", POSITIVE), ("truss.damping", "-", RATIO), ("truss.h_range", "m", _vector(2)),
+    ("truss.density", "kg/m^3", POSITIVE), ("truss.damping", "-", RATIO),
+    ("truss.damping_model", "-", _one_of(*DAMPING_MODELS)), ("truss.h_range", "m", _vector(2)),
     ("truss.h_nominal", "m", POSITIVE), ("truss.torsion", "-", _one_of("polar", "exact")),
     ("truss.base_points", "-", _names(("N1", "N2", "N3", "N4"), HUB_POINTS)),
     ("solar_panel.mass", "kg", POSITIVE), ("solar_panel.r_og", "m", _vector(3)), ("solar_panel.inertia_g", "kg m^2", _inertia),

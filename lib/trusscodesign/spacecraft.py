@@ -29,7 +29,7 @@ from .checks import check_panel_angles
 from .lft import LFT, Parameter
 from .ports import MultiPortModel, connect
 from .reduction import modal_reduction, static_gain
-from .titop import Section
+from .titop import DAMPING_MODELS, Section
 from .truss import t_truss, truss_members, truss_nodes
 
 __all__ = ["MODEL", "load_parameters", "parameters_fingerprint", "inputs_key", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
@@ -274,7 +274,8 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     rename = {v: k for k, v in tr["base_points"].items()}
     hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {rename.get(k, k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
 
-    section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"])
+    section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"],
+                             damping_model=tr["damping_model"])
     origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
     truss_model = t_truss(section, tr["cube_side"], n_modes, h_param=tunable_h(p) if tunable else None).translate(origin)
 
@@ -372,7 +373,8 @@ def inertia_at_p1(model: LFT) -> np.ndarray:
 
 
 def with_choices(params: dict | None = None, sadm_stiffness: float | None = None, sadm_friction: float | None = None,
-                 truss_damping: float | None = None, antenna_node: str | None = None, panel_turn_z_deg: dict | None = None) -> dict:
+                 truss_damping: float | None = None, antenna_node: str | None = None, panel_turn_z_deg: dict | None = None,
+                 truss_damping_model: str | None = None) -> dict:
     """A copy of the parameters with some of the paper's unpublished choices changed (for sensitivity studies).
 
     Parameters
@@ -381,6 +383,9 @@ def with_choices(params: dict | None = None, sadm_stiffness: float | None = None
         SADM joint stiffness [N m/rad] and viscous friction [N m s/rad].
     truss_damping : float, optional
         Modal damping ratio of the truss beams (paper: 0.001).
+    truss_damping_model : {"clamped_modes", "stiffness"}, optional
+        How the beams dissipate (:class:`trusscodesign.titop.Section`): the paper's ratio on each beam's clamped-at-P
+        modes, or stiffness-proportional damping, which does not depend on the beams' orientation.
     antenna_node : str, optional
         ``"N20"`` (default, the top node) or ``"N17"`` (the PMA node below it); the LOS is measured there.
     panel_turn_z_deg : dict, optional
@@ -402,6 +407,10 @@ def with_choices(params: dict | None = None, sadm_stiffness: float | None = None
         if not 0 <= damping < 1:
             raise ValueError(f"truss_damping must be in [0, 1), got {truss_damping!r}")
         p["truss"]["damping"] = damping
+    if truss_damping_model is not None:
+        if truss_damping_model not in DAMPING_MODELS:
+            raise ValueError(f"truss_damping_model must be one of {list(DAMPING_MODELS)}, got {truss_damping_model!r}")
+        p["truss"]["damping_model"] = truss_damping_model
     if antenna_node is not None:
         if antenna_node not in ("N17", "N20"):
             raise ValueError(f"antenna_node must be 'N17' or 'N20' (the truss ports), got {antenna_node!r}")

@@ -5,6 +5,7 @@ import copy
 import json
 import shutil
 
+import numpy as np
 import pytest
 
 from trusscodesign import paths, schema, spacecraft
@@ -29,6 +30,8 @@ def test_the_stored_parameters_pass():
     (lambda p: p["solar_panel"].update(omega=[2.51, 9.42, 3.77]), r"solar_panel\.omega \[rad/s\] must be a list of positive, increasing"),
     (lambda p: p["hub"]["inertia"][0].__setitem__(1, 50.0), r"hub\.inertia \[kg m\^2\] must be a symmetric positive definite"),
     (lambda p: p["choices"].update(effort="force"), r"choices\.effort \[-\] must be one of \['command', 'transmitted'\]"),
+    (lambda p: p["truss"].update(damping_model="rayleigh"), r"truss\.damping_model \[-\] must be one of \['clamped_modes', 'stiffness'\]"),
+    (lambda p: p["truss"].pop("damping_model"), r"the field truss\.damping_model is missing"),
     (lambda p: p["truss"].update(h_range=[0.03, 0.015]), r"truss\.h_range \[m\] must be \(low, high\) with 0 < low < high"),
     (lambda p: p["solar_panel"].pop("factors"), r"the field solar_panel\.factors is missing"),
     (lambda p: p["solar_panel"]["factors"].pop(), r"solar_panel\.factors must have one row per mode of solar_panel\.omega \(3\), got 2"),
@@ -71,3 +74,12 @@ def test_numpy_numbers_are_numbers():
 
     params = _edited(lambda p: p["hub"].update(mass=np.float32(640.0), mass_uncertainty=np.float64(0.2)))
     schema.check_parameters(params)
+
+
+def test_the_damping_model_choice_reaches_the_beams():
+    """with_choices(truss_damping_model=...) is what notebooks 04 and 06 vary: the truss's poles move, a bad name is refused."""
+    ref = spacecraft.open_loop(0.02139).blocks["truss"].poles()
+    stiff = spacecraft.open_loop(0.02139, params=spacecraft.with_choices(truss_damping_model="stiffness")).blocks["truss"].poles()
+    assert not np.allclose(np.sort_complex(ref), np.sort_complex(stiff))
+    with pytest.raises(ValueError, match=r"truss_damping_model must be one of \['clamped_modes', 'stiffness'\], got 'beta'"):
+        spacecraft.with_choices(truss_damping_model="beta")
