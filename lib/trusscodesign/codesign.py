@@ -53,7 +53,7 @@ def synthesis_options(fast: bool = False, trust_region: str = "box", restoration
     :data:`SYNTHESIS_OPTIONS` plus what differs from the synthesis defaults, or None when nothing does (the options the
     box-only runs were stored with, so that their checkpoints and caches keep matching).
 
-    ``fast``, ``trust_region`` ({"box", "ball", "bfgs"}) and ``restoration`` ({"minmax", "least_change"}) are those of
+    ``fast``, ``trust_region`` ({"box", "ball"}) and ``restoration`` ({"minmax", "least_change"}) are those of
     :func:`trusscodesign.synthesis.synthesize`; notebook 07's stored run uses ``(True, "ball", "least_change")``.
     """
     # their ValueError for an unknown trust region or restoration

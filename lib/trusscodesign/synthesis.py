@@ -902,74 +902,6 @@ def _linearise(plants, state: _State, group: str, band: float,
 # radius of the ball of trust_region="ball", in units of the box's per-entry radii and of sqrt(n): halfway from the
 # box's inscribed ball (1) to its corners (sqrt(n)). The first and only value tried (docs/experiments.md)
 _BALL = 0.5
-# trust_region="bfgs": a pair (s, y) updates the metric only if s.y > _CURVATURE |s| |y| (an angle below 89.99 deg)
-_CURVATURE = 1e-4
-
-
-@dataclass
-class _Metric:
-    """The shape of the trust region of ``trust_region="bfgs"``: a BFGS estimate ``B`` of the curvature of J in the
-    scaled step ``u = d / r0`` (``r0`` the trust region's per-entry radii at the start of an optimisation, to which its
-    radii stay proportional), learnt from J's subgradient before and after each accepted step: the peaks' gradients
-    weighted by the step program's multipliers of their rows (sum 1), so that where several peaks are equal (4-5 at
-    once in a warm start) the change is that of the active combination, not of whichever peak happens to be the largest
-    (in the spirit of BFGS on nonsmooth functions, Lewis and Overton 2013, HIFOO's method, which takes the gradient at
-    the point and a line search; here the multipliers are those of the trust-region step, so ``y`` also carries changes
-    of the active peaks). Measured (``docs/experiments.md``, on an earlier version): with the largest peak's gradient alone the 14 warm
-    starts took a median of 45.5 steps, with the weighted subgradient 37.5 (the ball 54.5).
-
-    The step's region is then ``||M u|| <= rho`` with ``M^T M`` = ``B`` with its condition number capped at ``kappa``
-    and scaled to a geometric-mean eigenvalue of 1: longer along directions of low curvature, shorter along those of
-    high, the ball's volume; the box is widened by the ellipsoid's half-extent along each entry (never narrowed). The linear program's step
-    in the ball is a steepest-descent step, which crawls along a curved valley: measured on a warm start 2.4 -> 2.5 cm,
-    25 steps in a row each on the ball, each predicting 0.42 % less J and giving 0.26 %. Before the first update (and
-    whenever an update fails the curvature condition ``s.y > 0`` it is skipped) the region is exactly the ball.
-    """
-
-    b: NDArray
-    kappa: float = 100.0
-    updates: int = 0
-
-    @classmethod
-    def identity(cls, n: int) -> "_Metric":
-        return cls(np.eye(n))
-
-    def update(self, s: NDArray, y: NDArray) -> bool:
-        """BFGS update with the scaled step ``s`` and the change ``y`` of the gradient (in ``u``); False if skipped."""
-        sy = float(s @ y)
-        if not (np.all(np.isfinite(s)) and np.all(np.isfinite(y)) and sy > _CURVATURE * np.linalg.norm(s) * np.linalg.norm(y)):
-            return False
-        b = (y @ y) / sy * np.eye(s.size) if self.updates == 0 else self.b  # the usual first scaling (inverse of N&W 6.20)
-        bs = b @ s
-        sbs = float(s @ bs)
-        if not sbs > 0.0:  # B no longer positive definite (round-off): skipped
-            return False
-        self.b = b - np.outer(bs, bs) / sbs + np.outer(y, y) / sy
-        self.updates += 1
-        return True
-
-    def shape(self) -> tuple[NDArray, NDArray]:
-        """``(M, widths)``: the region ``||M (d / r)|| <= rho`` and the box ``|d| <= widths r``."""
-        n = self.b.shape[0]
-        if self.updates == 0:
-            return np.eye(n), np.ones(n)
-        lam, vec = np.linalg.eigh(0.5 * (self.b + self.b.T))
-        log = np.log(np.maximum(lam, lam.max() * 1e-12))
-        half = 0.5 * np.log(self.kappa)
-        # the shift c with sum(clip(log - c, -half, half)) = 0 (the sum falls monotonically with c): the clipped
-        # eigenvalues keep a geometric mean of 1, so the ellipsoid has the ball's volume
-        lo, hi = log.min() - half, log.max() + half
-        for _ in range(60):
-            c = 0.5 * (lo + hi)
-            lo, hi = (c, hi) if np.clip(log - c, -half, half).sum() > 0 else (lo, c)
-        lam = np.exp(np.clip(log - 0.5 * (lo + hi), -half, half))
-        m = (vec * np.sqrt(lam)) @ vec.T
-        # sqrt(diag(B^-1)): the ellipsoid's half-extent along each entry in units of rho (1 for the ball). The box
-        # |d| <= widths r then cuts the ellipsoid as the unit box cuts the ball, except that it is never narrower
-        widths = np.maximum(1.0, np.sqrt(np.sum(vec ** 2 / lam, axis=1)))
-        return m, widths
-
-
 def _step_rows(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[float, NDArray, float]],
                soft: Sequence[tuple[float, NDArray, float]]) -> tuple[list[NDArray], list[float]]:
     """Rows ``a x <= b`` of a step's program in ``x = (d, t, s)``: peaks ``f + g d - t <= 0``, hard ``c + h d <= bound``,
@@ -982,19 +914,15 @@ def _step_rows(objective: Sequence[tuple[float, NDArray]], constraints: Sequence
 
 def _lp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray,
         soft: Sequence[tuple[float, NDArray, float]] = (), penalty: float = 0.0,
-        shape: str = "box", metric: "_Metric | None" = None,
-        weights: list[NDArray] | None = None) -> tuple[NDArray, float, float] | None:
+        shape: str = "box") -> tuple[NDArray, float, float] | None:
     """Trust-region LP: ``min t + penalty s`` s.t. ``f_j + g_j d <= t``, ``c_k + h_k d <= bound_k`` (hard),
     ``c_l + h_l d <= bound_l + s`` (soft, elastic), ``s >= 0``, ``|d| <= radius``. Returns ``(d, t, s)``, or None
     if the LP has no solution (the hard constraints cannot be met in the trust region).
 
     ``shape="ball"`` adds ``||d / radius||_2 <= 0.5 sqrt(n)``: a second-order cone program (Clarabel), whose
-    solution is not pushed into a corner of the box (see :func:`synthesize`, ``trust_region``). ``shape="bfgs"`` with a
-    ``metric``: that ball in the metric's norm, ``||M d / radius||_2 <= 0.5 sqrt(n)``, and the box widened to the
-    ellipsoid's extent (:class:`_Metric`); without one, the ball. With ``weights`` (a list), the cone programs append the
-    multipliers of the objective's rows to it."""
-    if shape in ("ball", "bfgs"):
-        return _socp(objective, constraints, radius, soft, penalty, None if shape == "ball" else metric, weights)
+    solution is not pushed into a corner of the box (see :func:`synthesize`, ``trust_region``)."""
+    if shape == "ball":
+        return _socp(objective, constraints, radius, soft, penalty)
     n = radius.size
     a_ub, b_ub = _step_rows(objective, constraints, soft)
     s_max = None if soft else 0.0
@@ -1004,40 +932,33 @@ def _lp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[
 
 
 def _socp(objective: Sequence[tuple[float, NDArray]], constraints: Sequence[tuple[float, NDArray, float]], radius: NDArray,
-          soft: Sequence[tuple[float, NDArray, float]], penalty: float,
-          metric: "_Metric | None" = None, weights: list[NDArray] | None = None) -> tuple[NDArray, float, float] | None:
+          soft: Sequence[tuple[float, NDArray, float]], penalty: float) -> tuple[NDArray, float, float] | None:
     """:func:`_lp` in the box intersected with the ball ``||d / radius||_2 <= _BALL sqrt(n)``, a second-order cone
     program solved by Clarabel (scipy has no cone solver; Clarabel is cvxpy's, already the mu analysis's). It is given
     to Clarabel directly, in its form ``A x + z = b``, ``z`` in the cones: written in cvxpy, building and compiling the
     program took 80 ms per step, a third of a warm-started synthesis (``tests/lib/test_synthesis.py`` keeps that
     formulation as the reference of this one)."""
     n = radius.size
-    m, widths = (None, np.ones(n)) if metric is None else metric.shape()
-    # x = (d, t, s): the step's rows, then -s <= 0 and |d| <= widths r (nonnegative cone)
+    # x = (d, t, s): the step's rows, then -s <= 0 and |d| <= r (nonnegative cone)
     rows, rhs = _step_rows(objective, constraints, soft)
     eye = np.eye(n, n + 2)
     a_lin = np.vstack([*rows, np.r_[np.zeros(n + 1), -1.0], eye, -eye])
-    b_lin = np.r_[rhs, 0.0, widths * radius, widths * radius]
-    # the ball: z = (R, M (d_1 / r_1, ..., d_n / r_n)) in the second-order cone
-    a_soc = np.vstack([np.zeros(n + 2), -eye / radius[:, None] if metric is None else -(m / radius[None, :]) @ eye])
+    b_lin = np.r_[rhs, 0.0, radius, radius]
+    # the ball: z = (R, d_1 / r_1, ..., d_n / r_n) in the second-order cone
+    a_soc = np.vstack([np.zeros(n + 2), -eye / radius[:, None]])
     b_soc = np.r_[_BALL * np.sqrt(n), np.zeros(n)]
     zero = [] if soft else [np.r_[np.zeros(n + 1), 1.0]]  # s = 0 without elastic rows (zero cone)
     cones = [("zero", len(zero)), ("nonneg", a_lin.shape[0]), ("soc", n + 1)]
-    duals: list[NDArray] = []
     x = _clarabel(np.zeros(n + 2), np.r_[np.zeros(n), 1.0, penalty], np.vstack([*zero, a_lin, a_soc]),
-                  np.r_[np.zeros(len(zero)), b_lin, b_soc], cones, duals)
+                  np.r_[np.zeros(len(zero)), b_lin, b_soc], cones)
     if x is None:
         return None
-    if weights is not None:  # the multipliers of the peaks' rows: the weights of J's subgradient at the step (sum 1)
-        weights.append(duals[0][len(zero):len(zero) + len(objective)])
     return x[:n], float(x[n]), float(x[n + 1])
 
 
-def _clarabel(p_diag: NDArray, q: NDArray, a: NDArray, b: NDArray, cones: Sequence[tuple[str, int]],
-              duals: list[NDArray] | None = None) -> NDArray | None:
+def _clarabel(p_diag: NDArray, q: NDArray, a: NDArray, b: NDArray, cones: Sequence[tuple[str, int]]) -> NDArray | None:
     """``argmin 0.5 x^T diag(p_diag) x + q^T x`` s.t. ``b - a x`` in the cones, given in order as ``(kind, rows)`` with
-    kind ``"zero"``, ``"nonneg"`` or ``"soc"``, by Clarabel; None unless it reports the problem solved. The multipliers
-    of the rows are appended to ``duals`` if one is given (and the problem solved)."""
+    kind ``"zero"``, ``"nonneg"`` or ``"soc"``, by Clarabel; None unless it reports the problem solved."""
     import clarabel
     from scipy import sparse
 
@@ -1050,8 +971,6 @@ def _clarabel(p_diag: NDArray, q: NDArray, a: NDArray, b: NDArray, cones: Sequen
                                       settings).solve()
     if solution.status != clarabel.SolverStatus.Solved:
         return None
-    if duals is not None:
-        duals.append(np.asarray(solution.z, dtype=float))
     return np.asarray(solution.x, dtype=float)
 
 
@@ -1148,14 +1067,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         modal form (:mod:`trusscodesign.modalloop`: ``O(n^2)`` per gain instead of a dense eigen-decomposition); the final
         evaluation of the scenario set and the worst-case searches stay dense, so ``j_c``, ``z_c`` and ``success``
         are always from the dense path. Default False (the reference path).
-    trust_region : {"box", "ball", "bfgs"}
+    trust_region : {"box", "ball"}
         Region of each step: the box ``|d_i| <= r_i`` on the gain entries (default: each step a linear program; every
         stored result) or that box intersected with the ball ``||d / r||_2 <= sqrt(32) / 2`` (a second-order cone program,
-        Clarabel), or (``"bfgs"``) that ball in the norm of a BFGS estimate of J's curvature learnt over the accepted steps
-        of each optimisation, the box widened to match (:class:`_Metric`; the stabilisation, feasibility-phase and
-        least-change steps keep the ball). Measured (``docs/experiments.md``): no systematic gain on 14
-        warm starts (median 19.5 s against 20.4 s, J_c -4.7 to +11.5 %), and from all gains at -1 at 1.5 cm it stops on
-        a plateau at J_c 0.18; no stored result uses it. In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
+        Clarabel). (A third shape, the ball in a BFGS metric learnt over the accepted steps, gained nothing and was
+        removed: ``docs/experiments.md``.) In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
         of the 32 entries on its faces) while 6-10 pole-damping rows are active, and the synthesis can crawl for dozens
         of steps and stop on that plateau (``docs/experiments.md``). Measured (``docs/experiments.md``,
         fast path, 8 cases): the ball takes the two such stalls (J_c 0.164 at 1.5 cm with ``tol = 0.01``, 0.181 at
@@ -1299,8 +1215,8 @@ def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damp
                           restoration="minmax", max_unstable=1, fast_search=False, search_max_evals=30,
                           peak_refine="zoom", processes=False, stall_steps=5, carry_history=False) -> None:
     """The checks of :func:`synthesize`'s scalar options (before anything is computed)."""
-    if not (isinstance(trust_region, str) and trust_region in ("box", "ball", "bfgs")):
-        raise ValueError(f"trust_region must be 'box', 'ball' or 'bfgs', got {trust_region!r}")
+    if not (isinstance(trust_region, str) and trust_region in ("box", "ball")):
+        raise ValueError(f"trust_region must be 'box' or 'ball', got {trust_region!r}")
     if not (isinstance(restoration, str) and restoration in ("minmax", "least_change")):
         raise ValueError(f"restoration must be 'minmax' or 'least_change', got {restoration!r}")
     for name, value, low, high in (("min_damping", min_damping, 0.0, 1.0), ("min_damping_all", min_damping_all, 0.0, 1.0),
@@ -1507,8 +1423,6 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
     radius = prob.radius(state.gain)
     accepted: list[float] = []
     gamma = prob.gamma
-    # trust_region="bfgs": the region's shape, learnt in u = d / r0 (the radii stay proportional to r0 in this call)
-    metric, base, last = (_Metric.identity(radius.size) if prob.trust_region == "bfgs" else None), radius.copy(), None
     # the feasibility phase lasts until Z < gamma_u; with least-change steps, which aim at the margin bound
     # gamma_u (1 - margin), until Z < gamma_u (1 - margin / 2): left just under gamma_u, the optimiser, which rejects
     # every trial with Z >= gamma_u, is held to tiny steps (measured: J 0.168 with Z 0.99996 after a warm start
@@ -1527,8 +1441,8 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
         restoring = restoring and z_now >= restored
         feasible = not restoring
         cons = _linearise(prob.plants, state, "effort", prob.band, prob.modal)
-        # the stability rows of the poles that could rise highest within the step's reach (the learnt metric's box)
-        stab = prob.stability_rows(state, all_plants=False, radius=radius if metric is None else radius * metric.shape()[1])
+        # the stability rows of the poles that could rise highest within the step's reach
+        stab = prob.stability_rows(state, all_plants=False, radius=radius)
         if feasible:
             # min J with the effort peaks elastic above a target halfway between Z and the margin bound (l1 penalty):
             # demanding them below the bound at once can leave no room to decrease J, and a pure feasibility step
@@ -1543,20 +1457,7 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             def merit(j: float, z: float) -> float:
                 return j / current + _PENALTY * max(0.0, z - target) / gamma
 
-            weights: list[NDArray] = []
-            sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region, metric, weights)
-            if metric is not None and sol is not None:
-                # J's subgradient at the step (the peaks' gradients weighted by their multipliers) [1 / gain unit]; after
-                # an accepted step, its change gives the metric's update, and the step is solved again in the new metric
-                # (with the stability rows of its reach). A pair waits for the first solve at the new point
-                grads = np.array([g for _, g in rpe])
-                grad = weights[0] @ grads
-                if last is not None and metric.update(last[0] / base, (grad - last[1]) * base):
-                    weights.clear()
-                    stab = prob.stability_rows(state, all_plants=False, radius=radius * metric.shape()[1])
-                    sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region, metric, weights)
-                    grad = grad if sol is None else weights[0] @ grads
-                last = None
+            sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region)
             now, pred = merit(current, z_now), (None if sol is None else sol[1] + _PENALTY * sol[2])
         else:
             sol = None
@@ -1592,8 +1493,6 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             logger.debug(f"it {prob.iterations}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
             radius = radius * (2.0 if ratio > 0.75 else 1.0)
             accepted = accepted + [trial.value("rpe")] if feasible else []
-            if feasible and metric is not None:
-                last = (sol[0], grad)
             if len(accepted) > prob.stall_steps and accepted[-prob.stall_steps - 1] - accepted[-1] < prob.tol * accepted[-1]:
                 break  # less than tol relative decrease of J over the last stall_steps accepted steps
         else:

@@ -666,98 +666,6 @@ def test_ball_step_equals_the_cvxpy_formulation(seed):
         assert np.all(np.abs(got[0]) <= radius * (1 + 1e-6))
 
 
-def _metric_step_by_cvxpy(objective, radius, m, widths, constraints=(), soft=(), penalty=0.0):
-    """The step of ``trust_region="bfgs"`` written in cvxpy: min t + penalty s s.t. f + g d <= t, hard and elastic rows,
-    ||M (d / r)|| <= rho, |d| <= widths r; and the multipliers of the peak rows."""
-    import cvxpy as cp
-
-    n = radius.size
-    d, t, s = cp.Variable(n), cp.Variable(), cp.Variable(nonneg=True)
-    rows = [f + g @ d <= t for f, g in objective]
-    cons = [cp.norm(m @ cp.multiply(1.0 / radius, d), 2) <= synthesis._BALL * np.sqrt(n), cp.abs(d) <= widths * radius]
-    cons += [c + h @ d <= b for c, h, b in constraints]
-    cons += [c + h @ d <= b + s for c, h, b in soft] if soft else [s == 0]
-    cp.Problem(cp.Minimize(t + penalty * s), rows + cons).solve(solver=cp.CLARABEL)
-    return d.value, float(t.value), np.array([float(r.dual_value) for r in rows])
-
-
-def test_metric_is_the_ball_until_its_first_update_and_meets_the_secant_equation():
-    """Before an update the metric's region is the ball (the same step to the last bit); a BFGS update makes B s = y
-    (the secant equation), keeps B symmetric positive definite, and is skipped when s.y <= 0 (no curvature); the
-    region's shape has a geometric-mean eigenvalue of 1 and a condition number capped at kappa."""
-    rng = np.random.default_rng(3)
-    n = 32
-    radius = 10.0 ** rng.uniform(-1, 1, n)
-    objective = [(rng.normal(), rng.normal(size=n)) for _ in range(12)]
-    metric = synthesis._Metric.identity(n)
-    ball = synthesis._lp(objective, [], radius, shape="ball")
-    same = synthesis._lp(objective, [], radius, shape="bfgs", metric=metric)
-    assert all(np.array_equal(x, y) for x, y in zip(ball, same))
-    a = rng.normal(size=(n, n))
-    hess = a @ a.T + 0.1 * np.eye(n)  # a convex quadratic: y = H s exactly
-    for _ in range(5):
-        step = rng.normal(size=n)
-        assert metric.update(step, hess @ step)
-        np.testing.assert_allclose(metric.b @ step, hess @ step, rtol=1e-8, atol=1e-10 * np.abs(hess @ step).max())
-    assert np.allclose(metric.b, metric.b.T) and np.linalg.eigvalsh(metric.b).min() > 0
-    step = rng.normal(size=n)
-    before = metric.b.copy()
-    assert not metric.update(step, -step) and np.array_equal(metric.b, before) and metric.updates == 5
-    m, widths = metric.shape()
-    lam = np.linalg.eigvalsh(m.T @ m)
-    assert np.sum(np.log(lam)) == pytest.approx(0.0, abs=1e-9)  # geometric mean 1 after the clip: the ball's volume
-    assert lam.max() / lam.min() <= metric.kappa * (1 + 1e-9) and lam.max() / lam.min() > 10.0
-    np.testing.assert_allclose(widths, np.maximum(1.0, np.sqrt(np.diag(np.linalg.inv(m.T @ m)))), rtol=1e-9)
-
-
-def test_metric_shape_of_a_known_curvature():
-    """B = diag(1, 4, 16, 64) (condition 64, no clip at kappa = 100): by hand, the geometric mean of (1, 4, 16, 64) is 8,
-    so unclipped M^T M = diag(1/8, 1/2, 2, 8); with kappa = 16 (|log| <= log 4) the shift c solving
-    sum clip(log(b) - c) = 0 is log 8 still (symmetric), giving diag(1/4, 1/2, 2, 4). The box's width along an entry is
-    the ellipsoid's half-extent there in units of rho, sqrt(1 / lambda_i), at least 1: the point of the ellipsoid
-    ||M u|| = 1 furthest along entry i is u = sqrt(1 / lambda_i) e_i."""
-    metric = synthesis._Metric(np.diag([1.0, 4.0, 16.0, 64.0]), kappa=100.0, updates=1)
-    m, widths = metric.shape()
-    np.testing.assert_allclose(m @ m, np.diag([1 / 8, 1 / 2, 2.0, 8.0]), rtol=1e-9, atol=1e-12)
-    np.testing.assert_allclose(widths, [np.sqrt(8.0), np.sqrt(2.0), 1.0, 1.0], rtol=1e-9)
-    metric.kappa = 16.0
-    m, widths = metric.shape()
-    np.testing.assert_allclose(m @ m, np.diag([1 / 4, 1 / 2, 2.0, 4.0]), rtol=1e-9, atol=1e-12)
-    np.testing.assert_allclose(widths, [2.0, np.sqrt(2.0), 1.0, 1.0], rtol=1e-9)
-    # one eigenvalue far above the others: clipped at 4 (= sqrt(kappa)), the other three then at 4^(-1/3) for a
-    # geometric mean of 1 (by hand: 3 (-c) + log 4 = 0)
-    lopsided = synthesis._Metric(np.diag([1.0, 1.0, 1.0, 1e6]), kappa=16.0, updates=1)
-    np.testing.assert_allclose(np.diag(lopsided.shape()[0]) ** 2, [4 ** (-1 / 3)] * 3 + [4.0], rtol=1e-9)
-
-
-@pytest.mark.parametrize("seed", range(4))
-def test_metric_step_and_its_multipliers_equal_the_cvxpy_formulation(seed):
-    """The step in a learnt metric (an ellipsoid, the box widened by its half-extent), given to Clarabel directly,
-    against the same program in cvxpy, on random problems of the synthesis's size: the same optimum and step, and the
-    multipliers of the peak rows returned through ``weights`` equal cvxpy's duals (they sum to 1: t's row). Seeds 2
-    and 3 add hard rows and elastic rows (no zero cone then: the layout of the optimiser's steps)."""
-    rng = np.random.default_rng(seed)
-    n = 32
-    radius = 10.0 ** rng.uniform(-1, 1, n)
-    objective = [(rng.normal(), rng.normal(size=n)) for _ in range(rng.integers(5, 40))]
-    constraints = [(rng.normal(), rng.normal(size=n), rng.uniform(0.5, 2.0)) for _ in range(4 if seed >= 2 else 0)]
-    soft = [(rng.normal(), rng.normal(size=n), rng.uniform(-0.5, 0.5)) for _ in range(3 if seed >= 2 else 0)]
-    penalty = 10.0 if soft else 0.0
-    metric = synthesis._Metric.identity(n)
-    for _ in range(6):
-        step = rng.normal(size=n)
-        metric.update(step, (1.0 + 30.0 * rng.uniform(size=n)) * step)  # a diagonal curvature spread over 30x
-    m, widths = metric.shape()
-    assert widths.max() > 1.0  # the box is widened along some entries
-    weights: list = []
-    d, t, s = synthesis._lp(objective, constraints, radius, soft, penalty, shape="bfgs", metric=metric, weights=weights)
-    d_ref, t_ref, lam_ref = _metric_step_by_cvxpy(objective, radius, m, widths, constraints, soft, penalty)
-    assert t == pytest.approx(t_ref, rel=1e-6, abs=1e-7)
-    assert np.allclose(d, d_ref, rtol=1e-4, atol=1e-5 * radius.max())
-    assert weights[0].sum() == pytest.approx(1.0, abs=1e-6)
-    np.testing.assert_allclose(weights[0], lam_ref, atol=1e-5)
-
-
 def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
     """min t s.t. f_j + g_j d <= t, |d| <= r, by hand: t = max(2 - d, d) is least at d = 1 (t = 1) inside r = 5, at the
     trust-region edge d = 0.5 (t = 1.5) for r = 0.5; t may be negative (the objective has no lower bound)."""
@@ -844,8 +752,7 @@ def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
     assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
 
 
-@pytest.mark.parametrize("shape, restoration", [("box", "minmax"), ("ball", "minmax"), ("ball", "least_change"),
-                                                ("bfgs", "least_change")])
+@pytest.mark.parametrize("shape, restoration", [("box", "minmax"), ("ball", "minmax"), ("ball", "least_change")])
 def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, inertia, shape, restoration, monkeypatch):
     """From an effort-infeasible start (3 x the 2.1 cm grid gain at 2.139 cm, stabilised: Z = 8.24, measured) the
     optimiser first lowers the worst effort peak at every accepted step until Z < gamma_u, then lowers the merit
@@ -877,25 +784,7 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
         return out
 
     monkeypatch.setattr(synthesis, "_least_change", recording)
-    updates: list[bool] = []
-    shaped: list[int] = []  # updates of the metric each cone program was given
-    if shape == "bfgs":
-        update, socp = synthesis._Metric.update, synthesis._socp
-
-        def recording_update(self, s, y):
-            updates.append(update(self, s, y))
-            return updates[-1]
-
-        def recording_socp(*args, **kwargs):
-            metric = kwargs["metric"] if "metric" in kwargs else (args[5] if len(args) > 5 else None)
-            shaped.append(-1 if metric is None else metric.updates)
-            return socp(*args, **kwargs)
-
-        monkeypatch.setattr(synthesis._Metric, "update", recording_update)
-        monkeypatch.setattr(synthesis, "_socp", recording_socp)
     end, at_limit = synthesis._optimise(prob, start)
-    if shape == "bfgs":  # the metric learnt from the accepted steps, and steps taken in it
-        assert any(updates) and max(shaped) >= 1
     assert any(steps_taken) if restoration == "least_change" else not steps_taken
     steps = prob.history[n_stab:]
     phases = [s["phase"] for s in steps]
@@ -919,7 +808,7 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
             assert np.linalg.svd(t, compute_uv=False)[0] <= lp.norm(group) * (1 + 1e-6)  # loop_peaks's direct-check tolerance
 
 
-@pytest.mark.parametrize("region", ["ball", "bfgs"])
+@pytest.mark.parametrize("region", ["box", "ball"])
 def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkeypatch, region):
     """Every LP of a synthesis (stabilisation and optimisation) gets the shape given to synthesize."""
     shapes: list[str] = []
