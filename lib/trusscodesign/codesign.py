@@ -569,8 +569,7 @@ def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequ
     stored = state.extra.get("objective", {})
     if not _same_objective(stored, objective):
         return f"it was computed for another objective ({_changes(stored, objective)})"
-    same_range = np.array_equal(state.lower, [float(h_range[0])]) and np.array_equal(state.upper, [float(h_range[1])])
-    if state.n != n_particles or state.seed != seed or not same_range or state.rule != pso_rule:
+    if not pso.same_run(state, n_particles, [h_range[0]], [h_range[1]], seed, pso_rule):
         return (f"it is from another swarm (n_particles={state.n}, seed={state.seed}, h range [{state.lower[0]}, "
                 f"{state.upper[0]}] m, rule {state.rule!r})")
     return None

@@ -31,11 +31,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .checks import check_option
 
-__all__ = ["SwarmState", "init_swarm", "step_positions", "update_bests", "save_state", "load_state", "run"]
+__all__ = ["SwarmState", "init_swarm", "step_positions", "update_bests", "save_state", "load_state", "same_run", "run"]
 
 
 @dataclass
@@ -211,6 +211,14 @@ def load_state(path: str | Path) -> SwarmState:
                       from_jsonable(d["history"]), from_jsonable(d["extra"]), _check_rule(d.get("rule", "documented")))
 
 
+def same_run(state: SwarmState, n: int, lower: ArrayLike, upper: ArrayLike, seed: int, rule: str) -> bool:
+    """Whether a stored swarm ``state`` is of the run with this size, bounds, seed and rule (the one a checkpoint
+    may be resumed by)."""
+    same_bounds = (np.array_equal(state.lower, np.atleast_1d(np.asarray(lower, float)))
+                   and np.array_equal(state.upper, np.atleast_1d(np.asarray(upper, float))))
+    return state.n == n and state.seed == seed and same_bounds and state.rule == rule
+
+
 def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Sequence[float], upper: Sequence[float],
         iterations: int, seed: int = 0, checkpoint: str | Path | None = None, on_iteration: Callable[[SwarmState], None] | None = None,
         stop_after: int | None = None, rule: str = "documented") -> SwarmState:
@@ -252,8 +260,7 @@ def run(evaluate: Callable[[NDArray, SwarmState], list[dict]], n: int, lower: Se
     lo, hi = _bounds(lower, upper)
     if checkpoint is not None and Path(checkpoint).exists():
         state = load_state(checkpoint)
-        same_bounds = np.array_equal(state.lower, lo) and np.array_equal(state.upper, hi)
-        if state.n != n or state.seed != seed or not same_bounds or state.rule != rule:
+        if not same_run(state, n, lo, hi, seed, rule):
             raise ValueError(f"checkpoint {checkpoint} is from another run (n={state.n}, seed={state.seed}, bounds "
                              f"[{state.lower}, {state.upper}], rule {state.rule!r}): delete it or choose another results folder")
         if state.iteration > iterations:

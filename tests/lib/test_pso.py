@@ -10,6 +10,8 @@ import pytest
 from trusscodesign import codesign, pso, synthesis
 from trusscodesign.closedloop import LoopSettings
 
+from _locks import held_elsewhere, hold_lock
+
 
 def quadratic(x, state):
     return [{"f": float((xi[0] - 0.3) ** 2 + 0.1 * np.sin(20 * xi[0]) ** 2)} for xi in x]
@@ -733,15 +735,6 @@ def test_edited_parameters_refuse_the_stored_swarm_and_recompute_the_grid(tmp_pa
     assert evaluated == hs + hs  # recomputed for the edited parameters
 
 
-def _hold_lock(path: str, ready, release) -> None:
-    """Another run: holds the lock of ``path`` until told to release it."""
-    from trusscodesign import results
-
-    with results.run_lock(path):
-        ready.set()
-        release.wait(30)
-
-
 def test_a_second_run_on_the_same_folder_stops_at_once_naming_the_first(tmp_path, monkeypatch):
     """Two co-design runs on one results folder: the second stops before any evaluation with the first run's process and
     host in its message, and the first run's checkpoint and grid are untouched; a lock is free again once its run ended
@@ -759,23 +752,16 @@ def test_a_second_run_on_the_same_folder_stops_at_once_naming_the_first(tmp_path
     before = ck.read_bytes()
     ctx = mp.get_context("fork")
     for target in (ck, grid):
-        ready, release = ctx.Event(), ctx.Event()
-        holder = ctx.Process(target=_hold_lock, args=(str(target), ready, release))
-        holder.start()
-        assert ready.wait(30)
-        try:
+        with held_elsewhere(target) as holder:
             with pytest.raises(RuntimeError, match=rf"{target.name} is in use by another run \(process {holder.pid} on {os.uname().nodename}"):
                 if target == ck:
                     codesign.run_codesign(2, 3, checkpoint=ck, **dict(run, seed=4))
                 else:
                     codesign.evaluate_grid([0.02], None, LoopSettings.from_parameters(), cache=grid, key={"k": 1})
-        finally:
-            release.set()
-            holder.join(30)
     assert ck.read_bytes() == before and not grid.exists()
     assert codesign.run_codesign(2, 3, checkpoint=ck, **run).iteration == 3  # the first run resumes once the other ended
     held = ctx.Event()
-    killed = ctx.Process(target=_hold_lock, args=(str(ck), held, ctx.Event()))
+    killed = ctx.Process(target=hold_lock, args=(str(ck), held, ctx.Event()))
     killed.start()
     assert held.wait(30)
     killed.kill()

@@ -7,6 +7,8 @@ from trusscodesign import design, robustness, synthesis
 from trusscodesign.closedloop import LoopSettings
 from trusscodesign.synthesis import Scenario
 
+from _locks import held_elsewhere
+
 ST = LoopSettings.from_parameters()
 
 
@@ -462,32 +464,14 @@ def test_certified_upper_bound_closes_the_coalescence_case(monkeypatch):
         robustness.certify_at_angle(model, 0.0, np.zeros((4, 8)), np.eye(3), ST, "RPE", grid.omegas)
 
 
-def _hold(path: str, ready, release) -> None:
-    """Another run: holds the lock of ``path`` until told to release it."""
-    from trusscodesign import results
-
-    with results.run_lock(path):
-        ready.set()
-        release.wait(30)
-
-
 def test_a_second_sweep_on_the_same_partial_file_stops_at_once_naming_the_first(tmp_path):
     """Notebook 08's partial file of finished panel angles is locked while a sweep runs: a second sweep on it stops
     before computing anything, naming the first run's process and host."""
-    import multiprocessing as mp
     import os
 
     partial = tmp_path / "08_sweep.partial.json"
-    ctx = mp.get_context("fork")
-    ready, release = ctx.Event(), ctx.Event()
-    holder = ctx.Process(target=_hold, args=(str(partial), ready, release))
-    holder.start()
-    assert ready.wait(30)
-    try:
+    with held_elsewhere(partial) as holder:
         with pytest.raises(RuntimeError, match=rf"{partial.name} is in use by another run \(process {holder.pid} on {os.uname().nodename}"):
             robustness.sweep(None, [0.0], np.ones((4, 8)), np.eye(6), LoopSettings.from_parameters(), partial=partial,
                              partial_key={"h": 0.02})
-    finally:
-        release.set()
-        holder.join(30)
     assert not partial.exists()
