@@ -1,6 +1,8 @@
 """Structured synthesis building blocks: peak gradients against finite differences, peak-aware norms against the
 Hamiltonian method and SLICOT's ab13dd, worst-case search against sampling, scenario validation."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import slycot
@@ -410,6 +412,12 @@ def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
     assert np.array_equal(seen["variants"][0][1], 2 * np.eye(3)) and seen["omega_check"] == 500.0
     design.robust_design(base, ST, variants=[shifted], spillover=False)
     assert seen["stability_models"] == []
+    # the spillover modes keep half the truss damping of the parameters: 5e-4 for the paper's 1e-3, 5e-5 for 1e-4
+    assert seen["min_damping"] == 5e-4
+    design.robust_design(replace(base, truss_damping=1e-4), ST)
+    assert seen["min_damping"] == 5e-5
+    design.robust_design(replace(base, truss_damping=1e-4), ST, min_damping=2e-4)
+    assert seen["min_damping"] == 2e-4
 
 
 def _result(gain, success, message, n=1):

@@ -1,0 +1,272 @@
+"""Two-sided sensitivity of the pointing loop to the inputs the paper does not publish or states ambiguously.
+
+A *lever* is one input swept over a plausible physical range around the value used by default (stated by the paper, or
+chosen in notebook 04 where the paper is silent), on a log scale where the range spans decades. Each case, one lever at
+one value with every other input at its default, gets the open-loop worst case (PMAs passive) and a robust synthesis
+(:func:`trusscodesign.design.robust_design`), with its critical frequency and panel angle: notebook 06, section 7.
+
+The cases are independent: :func:`study` runs them in this process or on a Dask client, saving each as it finishes, so an
+interrupted study loses only the cases under way.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable, Sequence
+from contextlib import nullcontext
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import design, spacecraft
+from .closedloop import LoopSettings
+from .results import read_keyed, run_lock, write_json
+
+__all__ = ["Lever", "levers", "case_inputs", "evaluate_case", "study", "open_loop_map"]
+
+
+@dataclass(frozen=True)
+class Lever:
+    """One input of the study.
+
+    Attributes
+    ----------
+    name : str
+        Identifier (``"u_max"``, ``"truss_damping"``, ...).
+    label : str
+        Axis label, with the unit.
+    values : tuple
+        The values swept (numbers in the unit of ``label``, or names for a choice).
+    default : float or str
+        The value every other case uses (one of ``values``).
+    setting : str
+        The :class:`~trusscodesign.closedloop.LoopSettings` field it sets, or ``""`` for a model input.
+    model : str
+        The keyword of :func:`trusscodesign.spacecraft.with_choices` it sets, or ``""`` for a loop setting.
+    fixed : dict
+        Further :func:`~trusscodesign.spacecraft.with_choices` changes of every case of the lever (e.g. the damping model).
+    mapping : dict
+        For a choice whose name is not the value given to the model (the panel frames), the value of each name.
+    why : str
+        Where the range comes from.
+    """
+
+    name: str
+    label: str
+    values: tuple
+    default: float | str
+    setting: str = ""
+    model: str = ""
+    fixed: dict = field(default_factory=dict)
+    mapping: dict = field(default_factory=dict)
+    why: str = ""
+
+    @property
+    def numeric(self) -> bool:
+        """Whether the values are numbers (plotted on a log axis) rather than names of choices."""
+        return not isinstance(self.default, str)
+
+
+def levers(params: dict | None = None) -> dict[str, Lever]:
+    """The levers of the study, with their default ranges, around the values of ``params`` (default: the package's).
+
+    The SADM joint's stiffness and friction are swept by factors of their chosen values (joint mode 1 Hz, 5 % damping;
+    notebook 04), the loop settings around the paper's stated values.
+    """
+    p = params or spacecraft.load_parameters()
+    cl, ch, xi = p["closed_loop"], p["choices"], p["truss"]["damping"]
+    k, c = ch["sadm_stiffness"], ch["sadm_friction"]
+    damping = (1e-5, 1e-4, 1e-3, 1e-2)
+    out = [
+        Lever("u_max", r"effort bound $u_{max}$ [N]", (0.1, 0.5, 1.5, 5.0, cl["u_max"], 50.0), cl["u_max"], setting="u_max",
+              why="PMA force range: 0.1 N (a small proof-mass actuator) to 50 N (a large one); the paper states 15 N"),
+        Lever("truss_damping", r"truss damping ratio $\xi$ (paper's beam model) [-]", tuple(sorted({*damping, xi})), xi,
+              model="truss_damping", fixed={"truss_damping_model": "clamped_modes"},
+              why="bolted aluminium trusses: 1e-4 to 1e-2 measured on orbit and on ground; 1e-5 a welded limit"),
+        Lever("truss_damping_stiffness", r"truss damping ratio $\xi$ (stiffness-proportional) [-]", tuple(sorted({*damping, xi})), xi,
+              model="truss_damping", fixed={"truss_damping_model": "stiffness"},
+              why="the same ratios, with the damping model that does not depend on the beams' orientation (notebook 04)"),
+        Lever("t_delta", r"RPE window $t_\Delta$ [s]", tuple(sorted({1e-3, cl["t_delta"], 1e-2, 3e-2, 0.1, 1.0})), cl["t_delta"],
+              setting="t_delta", why="pointing-error windows of 1 ms (a detector frame) to 1 s (an exposure); the paper states 3 ms"),
+        Lever("p_max", r"SADM torque bound $p_{max}$ [N m]", tuple(sorted({0.04, 0.12, cl["p_max"], 1.2})), cl["p_max"], setting="p_max",
+              why="stepper-motor detent and drive torque harmonics, x0.1 to x3 of the paper's 0.382 N m"),
+        Lever("eps_max", r"RPE bound $\epsilon_{max}$ [rad]", tuple(sorted({1e-5, cl["eps_max"], 2e-4})), cl["eps_max"], setting="eps_max",
+              why="10 to 200 urad: fine to coarse pointing; the paper states 50 urad"),
+        Lever("sadm_stiffness", r"SADM joint stiffness [N m/rad]", tuple(float(k * f) for f in (0.1, 0.25, 1.0, 4.0, 10.0)), float(k),
+              model="sadm_stiffness", why="joint mode of the rigid panel 0.32 to 3.2 Hz (chosen: 1 Hz), friction unchanged"),
+        Lever("sadm_friction", r"SADM joint friction [N m s/rad]", tuple(float(c * f) for f in (0.1, 0.2, 1.0, 5.0)), float(c),
+              model="sadm_friction", why="joint damping ratio 0.5 % to 25 % (chosen: 5 %), stiffness unchanged"),
+        Lever("xi_pma", r"PMA filter damping $\xi_{PMA}$ [-]", tuple(sorted({0.1, 0.3, ch["xi_pma"], 1.0, 2.0})), ch["xi_pma"],
+              setting="xi_pma", why="not given by the paper: lightly damped to overdamped wash-out; chosen 0.7"),
+        Lever("effort", "effort measured as", ("command", "transmitted"), ch["effort"], setting="effort",
+              why="the command u, or the force the PMA transmits to the structure (u - k x - d x')"),
+        Lever("antenna_node", "antenna (and LOS) node", ("N20", "N17"), "N20", model="antenna_node",
+              why="the top node, or the PMA node below it; the paper's figure is ambiguous"),
+        Lever("panel_frame", "panel frames", ("turned", "literal"), "turned", model="panel_turn_z_deg",
+              mapping={"turned": dict(ch["panel_turn_z_deg"]), "literal": {"SP1": 0.0, "SP2": 0.0}},
+              why="panels' long axes along the rotation axis (chosen), or the literal R_x(theta) of the paper's table"),
+    ]
+    return {lv.name: lv for lv in out}
+
+
+def case_inputs(lever: Lever, value: Any, params: dict, settings: LoopSettings) -> tuple[dict, LoopSettings]:
+    """The parameters and loop settings of one case: ``lever`` at ``value``, every other input as given.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not one of the lever's choices (for a choice), or is refused by the model or the settings.
+    """
+    if not lever.numeric and value not in lever.values:
+        raise ValueError(f"{lever.name} must be one of {list(lever.values)}, got {value!r}")
+    v = lever.mapping.get(value, value) if lever.mapping else value
+    if lever.setting:
+        return params, settings.replace(**{lever.setting: v})
+    changes = {**lever.fixed, lever.model: v}
+    return spacecraft.with_choices(params, **changes), settings
+
+
+def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: LoopSettings, robust: bool = True,
+                  restarts: int = 2, models: design.DesignModels | None = None) -> dict[str, Any]:
+    """Open-loop worst case and robust design at section side ``h`` [m] of one case.
+
+    Parameters
+    ----------
+    h : float
+        Truss section side [m].
+    lever, value
+        The case (:func:`case_inputs`).
+    params, settings
+        The inputs of every other lever.
+    robust : bool
+        Also run the robust synthesis (default); False: the open loop only.
+    restarts : int
+        Restarts of a failed synthesis (:func:`trusscodesign.design.robust_design`).
+    models : DesignModels, optional
+        The models at ``h`` for ``params``, reused by a lever of the loop settings (built here otherwise).
+
+    Returns
+    -------
+    dict
+        ``lever``, ``value``, ``default`` (whether it is the default case), the open loop's ``open_loop_J_c``,
+        ``open_loop_omega`` [rad/s] and ``open_loop_theta_deg``, and with ``robust`` the design's ``success``,
+        ``message``, ``restarts``, ``J_c``, ``Z_c``, ``critical_omega`` [rad/s], ``critical_theta_deg``, ``gain``;
+        ``time_s``.
+    """
+    t0 = time.perf_counter()
+    p, s = case_inputs(lever, value, params, settings)
+    m = models if models is not None and lever.setting else design.models_at(h, params=p)
+    ol = design.open_loop_worst_case(m, s)
+    row: dict[str, Any] = {"lever": lever.name, "value": value, "default": value == lever.default,
+                           "open_loop_J_c": ol.value["rpe"], "open_loop_omega": ol.omega["rpe"],
+                           "open_loop_theta_deg": float(np.rad2deg(ol.scenario["rpe"].theta))}
+    if robust:
+        r = design.robust_design(m, s, restarts=restarts)
+        worst = r.worst  # None when no gain stabilised the scenario set
+        row.update(success=bool(r.success), message=r.message, restarts=r.restarts, J_c=r.j_c, Z_c=r.z_c,
+                   critical_omega=worst.omega["rpe"] if worst else np.nan,
+                   critical_theta_deg=float(np.rad2deg(worst.scenario["rpe"].theta)) if worst else np.nan,
+                   gain=np.asarray(r.gain).tolist())
+    row["time_s"] = time.perf_counter() - t0
+    return row
+
+
+def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None, settings: LoopSettings | None = None,
+          robust: bool = True, restarts: int = 2, client=None, partial: str | Path | None = None,
+          progress: Callable[[Iterable], Iterable] = iter) -> list[dict[str, Any]]:
+    """:func:`evaluate_case` for each ``(lever name, value)`` of ``cases``, in the order given.
+
+    Parameters
+    ----------
+    h : float
+        Truss section side [m].
+    cases : sequence of (str, value)
+        The cases (e.g. every value of every lever of :func:`levers`).
+    params, settings
+        Defaults: the package's parameters and their loop settings.
+    robust, restarts
+        As :func:`evaluate_case`.
+    client : dask.distributed.Client, optional
+        Runs the cases in parallel (e.g. :func:`trusscodesign.codesign.local_client`); default: this process.
+    partial : path, optional
+        JSON file where each finished case is saved at once; a study with the same h, parameters, settings, options,
+        model version and synthesis algorithm takes the cases it holds from it. Removed once every case is done.
+    progress : callable
+        Wraps the iterable of finished cases (e.g. a tqdm bar with ``total=len(cases)``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown lever or a value the lever refuses, before any case runs.
+    """
+    from .synthesis import ALGORITHM
+
+    params = params or spacecraft.load_parameters()
+    settings = settings or LoopSettings.from_parameters(params)
+    h = spacecraft.check_section_side(h, params)
+    table = levers(params)
+    unknown = sorted({name for name, _ in cases} - set(table))
+    if unknown:
+        raise ValueError(f"unknown levers {unknown}; allowed: {sorted(table)}")
+    for name, value in cases:  # every case's inputs checked before the first synthesis
+        case_inputs(table[name], value, params, settings)
+    key = dict(h=h, inputs=spacecraft.inputs_key(params), settings=settings.__dict__, robust=robust, restarts=restarts,
+               algorithm=ALGORITHM)
+    with run_lock(partial) if partial is not None else nullcontext():
+        stored, key = read_keyed(partial, key)
+        done: dict[str, dict] = stored["cases"] if stored else {}
+        tags = [f"{name}={value!r}" for name, value in cases]
+        base = None if all(t in done for t in tags) else design.models_at(h, params=params)
+
+        def finished():
+            yield from ((t, done[t]) for t in tags if t in done)
+            todo = [(t, c) for t, c in zip(tags, cases) if t not in done]
+            if client is None:
+                for t, (name, value) in todo:
+                    yield t, evaluate_case(h, table[name], value, params, settings, robust, restarts, base)
+                return
+            from .codesign import _as_finished
+
+            m = client.scatter(base, broadcast=True)
+            futures = {client.submit(evaluate_case, h, table[name], value, params, settings, robust, restarts, m,
+                                     pure=False, retries=1): t for t, (name, value) in todo}
+            for fut in _as_finished(client, futures):
+                yield futures[fut], fut.result()
+
+        for tag, row in progress(finished()):
+            if tag not in done and partial is not None:
+                done[tag] = row
+                write_json(partial, {"key": key, "cases": done})
+            done[tag] = row
+        if partial is not None and Path(partial).exists():
+            Path(partial).unlink()
+    return [done[t] for t in tags]
+
+
+def open_loop_map(h: float, lever_a: str, values_a: Sequence[Any], lever_b: str, values_b: Sequence[Any],
+                  params: dict | None = None, settings: LoopSettings | None = None) -> dict[str, np.ndarray]:
+    """Open-loop worst-case J_c over two levers at once (a model input and a loop setting, or two loop settings).
+
+    Returns
+    -------
+    dict
+        ``J_c`` and ``omega`` [rad/s], arrays of shape ``(len(values_a), len(values_b))``.
+    """
+    params = params or spacecraft.load_parameters()
+    settings = settings or LoopSettings.from_parameters(params)
+    table = levers(params)
+    a, b = table[lever_a], table[lever_b]
+    if b.model:
+        raise ValueError(f"lever_b must be a loop setting (the model is built once per value of lever_a), got {lever_b!r}")
+    j = np.empty((len(values_a), len(values_b)))
+    w = np.empty_like(j)
+    for i, va in enumerate(values_a):
+        pa, sa = case_inputs(a, va, params, settings)
+        m = design.models_at(h, params=pa)
+        for k, vb in enumerate(values_b):
+            _, sb = case_inputs(b, vb, pa, sa)
+            wc = design.open_loop_worst_case(m, sb)
+            j[i, k], w[i, k] = wc.value["rpe"], wc.omega["rpe"]
+    return {"J_c": j, "omega": w}

@@ -1,0 +1,99 @@
+"""The sensitivity study's cases: each lever sets what it names, the open loop obeys its closed-form scalings, and an
+interrupted study resumes from its partial file."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from trusscodesign import sensitivity, spacecraft
+from trusscodesign.closedloop import LoopSettings
+
+H = 0.02139
+
+
+@pytest.fixture(scope="module")
+def params():
+    return spacecraft.load_parameters()
+
+
+@pytest.fixture(scope="module")
+def open_loop(params):
+    """Open-loop J_c of a few loop-setting cases, one model (the cases the scalings below compare)."""
+    cases = [("p_max", 0.382), ("p_max", 1.2), ("eps_max", 1e-5), ("u_max", 0.1), ("xi_pma", 2.0), ("effort", "transmitted")]
+    rows = sensitivity.study(H, cases, params=params, robust=False)
+    return {(r["lever"], r["value"]): r for r in rows}
+
+
+def test_every_lever_sweeps_its_default_on_both_sides(params) -> None:
+    for lever in sensitivity.levers(params).values():
+        assert lever.default in lever.values, lever.name
+        if lever.numeric:
+            v = np.asarray(lever.values, dtype=float)
+            assert v.min() < lever.default < v.max(), lever.name  # two-sided
+            assert np.all(np.diff(v) > 0), lever.name
+        assert bool(lever.setting) != bool(lever.model), lever.name
+
+
+def test_a_case_changes_only_its_own_input(params) -> None:
+    settings = LoopSettings.from_parameters(params)
+    table = sensitivity.levers(params)
+    p, s = sensitivity.case_inputs(table["truss_damping_stiffness"], 1e-4, params, settings)
+    assert (p["truss"]["damping"], p["truss"]["damping_model"]) == (1e-4, "stiffness") and s == settings
+    assert params["truss"]["damping"] == 1e-3  # the caller's parameters are not edited
+    p, s = sensitivity.case_inputs(table["panel_frame"], "literal", params, settings)
+    assert p["choices"]["panel_turn_z_deg"] == {"SP1": 0.0, "SP2": 0.0}
+    p, s = sensitivity.case_inputs(table["t_delta"], 0.03, params, settings)
+    assert p is params and s == settings.replace(t_delta=0.03)
+    with pytest.raises(ValueError, match="panel_frame must be one of"):
+        sensitivity.case_inputs(table["panel_frame"], "sideways", params, settings)
+
+
+def test_bad_cases_are_refused_before_any_work(params, monkeypatch) -> None:
+    monkeypatch.setattr(sensitivity.design, "models_at", lambda *a, **k: pytest.fail("a model was built"))
+    with pytest.raises(ValueError, match=r"unknown levers \['u_maximum'\]"):
+        sensitivity.study(H, [("u_max", 5.0), ("u_maximum", 5.0)], params=params)
+    with pytest.raises(ValueError, match="u_max must be a finite positive number"):
+        sensitivity.study(H, [("t_delta", 0.03), ("u_max", -5.0)], params=params)
+    with pytest.raises(ValueError, match="h must be"):
+        sensitivity.study(0.5, [("u_max", 5.0)], params=params)
+
+
+def test_the_open_loop_scales_as_p_max_over_eps_max(open_loop) -> None:
+    """With the PMAs passive the loop is linear in the disturbance and the RPE weight is 1/eps_max: closed form."""
+    j = {k: r["open_loop_J_c"] for k, r in open_loop.items()}
+    assert j[("p_max", 1.2)] / j[("p_max", 0.382)] == pytest.approx(1.2 / 0.382, rel=1e-6)
+    assert j[("eps_max", 1e-5)] / j[("p_max", 0.382)] == pytest.approx(5.0, rel=1e-6)
+    assert open_loop[("p_max", 1.2)]["open_loop_omega"] == pytest.approx(open_loop[("p_max", 0.382)]["open_loop_omega"], rel=1e-6)
+
+
+def test_the_open_loop_does_not_depend_on_the_pma_settings(open_loop) -> None:
+    """K_PMA = 0: no command, so neither the effort bound, the PMA filter nor the effort's definition can act."""
+    base = open_loop[("p_max", 0.382)]["open_loop_J_c"]
+    for case in (("u_max", 0.1), ("xi_pma", 2.0), ("effort", "transmitted")):
+        assert open_loop[case]["open_loop_J_c"] == pytest.approx(base, rel=1e-9), case
+
+
+def test_an_interrupted_study_resumes_from_its_partial_file(params, tmp_path, monkeypatch) -> None:
+    partial = tmp_path / "sens.partial.json"
+    cases = [("t_delta", 0.01), ("t_delta", 0.1)]
+
+    def stop_after_first(it):
+        for k, item in enumerate(it):
+            if k == 1:
+                raise KeyboardInterrupt
+            yield item
+
+    with pytest.raises(KeyboardInterrupt):
+        sensitivity.study(H, cases, params=params, robust=False, partial=partial, progress=stop_after_first)
+    assert partial.exists()
+    calls = []
+    real = sensitivity.evaluate_case
+    monkeypatch.setattr(sensitivity, "evaluate_case", lambda h, lever, value, *a: calls.append(value) or real(h, lever, value, *a))
+    rows = sensitivity.study(H, cases, params=params, robust=False, partial=partial)
+    assert calls == [0.1] and [r["value"] for r in rows] == [0.01, 0.1]
+    assert not partial.exists()  # removed once complete
+    # another setting of the other levers: nothing reused
+    sensitivity.study(H, cases[:1], params=params, settings=LoopSettings.from_parameters(params).replace(u_max=5.0),
+                      robust=False, partial=partial)
+    assert calls == [0.1, 0.01]
