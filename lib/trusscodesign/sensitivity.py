@@ -24,7 +24,7 @@ from . import design, spacecraft
 from .closedloop import LoopSettings
 from .results import read_keyed, run_lock, write_json
 
-__all__ = ["Lever", "levers", "case_inputs", "evaluate_case", "study", "open_loop_map"]
+__all__ = ["Lever", "levers", "case_inputs", "check_cases", "evaluate_case", "study", "open_loop_map"]
 
 
 @dataclass(frozen=True)
@@ -128,6 +128,43 @@ def case_inputs(lever: Lever, value: Any, params: dict, settings: LoopSettings) 
     return spacecraft.with_choices(params, **changes), settings
 
 
+def check_cases(cases: Sequence[tuple[str, Any]], params: dict | None = None,
+                settings: LoopSettings | None = None) -> list[tuple[dict, LoopSettings]]:
+    """The inputs of each ``(lever name, value)`` case (:func:`case_inputs`), every case checked first.
+
+    Raises
+    ------
+    ValueError
+        Naming the lever and the value, for an unknown lever or a value the lever, the model or the settings refuse.
+    """
+    params = params or spacecraft.load_parameters()
+    settings = settings or LoopSettings.from_parameters(params)
+    table = levers(params)
+    unknown = sorted({name for name, _ in cases} - set(table))
+    if unknown:
+        raise ValueError(f"unknown levers {unknown}; allowed: {sorted(table)}")
+    out = []
+    for name, value in cases:
+        try:
+            out.append(case_inputs(table[name], value, params, settings))
+        except (TypeError, ValueError) as err:
+            raise ValueError(f"lever {name} at {value!r} ({table[name].label}): {err}") from None
+    return out
+
+
+class _Sized:
+    """An iterator with a length, so that a progress bar (tqdm) knows its total."""
+
+    def __init__(self, it: Iterable, n: int):
+        self._it, self._n = iter(it), n
+
+    def __iter__(self):
+        return self._it
+
+    def __len__(self) -> int:
+        return self._n
+
+
 def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: LoopSettings, robust: bool = True,
                   restarts: int = 2, models: design.DesignModels | None = None) -> dict[str, Any]:
     """Open-loop worst case and robust design at section side ``h`` [m] of one case.
@@ -194,7 +231,8 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
         JSON file where each finished case is saved at once; a study with the same h, parameters, settings, options,
         model version and synthesis algorithm takes the cases it holds from it. Removed once every case is done.
     progress : callable
-        Wraps the iterable of finished cases (e.g. a tqdm bar with ``total=len(cases)``).
+        Wraps the iterable of finished evaluations: one per distinct spacecraft and loop among the cases (the default
+        value of every lever is one evaluation).
 
     Raises
     ------
@@ -207,22 +245,22 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
     settings = settings or LoopSettings.from_parameters(params)
     h = spacecraft.check_section_side(h, params)
     table = levers(params)
-    unknown = sorted({name for name, _ in cases} - set(table))
-    if unknown:
-        raise ValueError(f"unknown levers {unknown}; allowed: {sorted(table)}")
-    for name, value in cases:  # every case's inputs checked before the first synthesis
-        case_inputs(table[name], value, params, settings)
+    # every case's inputs checked before the first synthesis; cases with the same inputs (the default value of each
+    # lever is the same spacecraft and loop) are evaluated once
+    tags = [_tag(*inputs) for inputs in check_cases(cases, params, settings)]
+    first: dict[str, tuple[str, Any]] = {}
+    for t, c in zip(tags, cases):
+        first.setdefault(t, c)
     key = dict(h=h, inputs=spacecraft.inputs_key(params), settings=settings.__dict__, robust=robust, restarts=restarts,
                algorithm=ALGORITHM)
     with run_lock(partial) if partial is not None else nullcontext():
         stored, key = read_keyed(partial, key)
         done: dict[str, dict] = stored["cases"] if stored else {}
-        tags = [f"{name}={value!r}" for name, value in cases]
-        base = None if all(t in done for t in tags) else design.models_at(h, params=params)
+        todo = [(t, c) for t, c in first.items() if t not in done]
+        base = design.models_at(h, params=params) if todo else None
 
         def finished():
-            yield from ((t, done[t]) for t in tags if t in done)
-            todo = [(t, c) for t, c in zip(tags, cases) if t not in done]
+            yield from ((t, done[t]) for t in first if t in done)
             if client is None:
                 for t, (name, value) in todo:
                     yield t, evaluate_case(h, table[name], value, params, settings, robust, restarts, base)
@@ -235,14 +273,20 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
             for fut in _as_finished(client, futures):
                 yield futures[fut], fut.result()
 
-        for tag, row in progress(finished()):
+        for tag, row in progress(_Sized(finished(), len(first))):
             if tag not in done and partial is not None:
                 done[tag] = row
                 write_json(partial, {"key": key, "cases": done})
             done[tag] = row
         if partial is not None and Path(partial).exists():
             Path(partial).unlink()
-    return [done[t] for t in tags]
+    return [{**done[t], "lever": name, "value": value, "default": value == table[name].default}
+            for t, (name, value) in zip(tags, cases)]
+
+
+def _tag(params: dict, settings: LoopSettings) -> str:
+    """What identifies a case's inputs: the parameters' fingerprint and the loop settings."""
+    return f"{spacecraft.parameters_fingerprint(params)[:16]}|{sorted(settings.__dict__.items())!r}"
 
 
 def open_loop_map(h: float, lever_a: str, values_a: Sequence[Any], lever_b: str, values_b: Sequence[Any],

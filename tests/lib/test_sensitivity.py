@@ -53,7 +53,7 @@ def test_bad_cases_are_refused_before_any_work(params, monkeypatch) -> None:
     monkeypatch.setattr(sensitivity.design, "models_at", lambda *a, **k: pytest.fail("a model was built"))
     with pytest.raises(ValueError, match=r"unknown levers \['u_maximum'\]"):
         sensitivity.study(H, [("u_max", 5.0), ("u_maximum", 5.0)], params=params)
-    with pytest.raises(ValueError, match="u_max must be a finite positive number"):
+    with pytest.raises(ValueError, match=r"lever u_max at -5.0 \(effort bound .*u_max must be a finite positive number"):
         sensitivity.study(H, [("t_delta", 0.03), ("u_max", -5.0)], params=params)
     with pytest.raises(ValueError, match="h must be"):
         sensitivity.study(0.5, [("u_max", 5.0)], params=params)
@@ -97,3 +97,15 @@ def test_an_interrupted_study_resumes_from_its_partial_file(params, tmp_path, mo
     sensitivity.study(H, cases[:1], params=params, settings=LoopSettings.from_parameters(params).replace(u_max=5.0),
                       robust=False, partial=partial)
     assert calls == [0.1, 0.01]
+
+
+def test_cases_with_the_same_inputs_are_evaluated_once(params, monkeypatch) -> None:
+    """Every lever's default is the same spacecraft and loop: one evaluation, reported under each lever."""
+    calls = []
+    real = sensitivity.evaluate_case
+    monkeypatch.setattr(sensitivity, "evaluate_case", lambda h, lever, value, *a: calls.append(lever.name) or real(h, lever, value, *a))
+    cases = [("u_max", 15.0), ("t_delta", 0.003), ("truss_damping", 1e-3), ("truss_damping_stiffness", 1e-3)]
+    rows = sensitivity.study(H, cases, params=params, robust=False)
+    assert calls == ["u_max", "truss_damping_stiffness"]
+    assert [(r["lever"], r["value"], r["default"]) for r in rows] == [(*c, True) for c in cases]
+    assert rows[0]["open_loop_J_c"] == rows[1]["open_loop_J_c"] == rows[2]["open_loop_J_c"] != rows[3]["open_loop_J_c"]
