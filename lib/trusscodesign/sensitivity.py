@@ -166,7 +166,7 @@ class _Sized:
 
 
 def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: LoopSettings, robust: bool = True,
-                  restarts: int = 2, models: design.DesignModels | None = None) -> dict[str, Any]:
+                  restarts: int = 2, models: design.DesignModels | None = None, workers: int | None = None) -> dict[str, Any]:
     """Open-loop worst case and robust design at section side ``h`` [m] of one case.
 
     Parameters
@@ -183,6 +183,9 @@ def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: Lo
         Restarts of a failed synthesis (:func:`trusscodesign.design.robust_design`).
     models : DesignModels, optional
         The models at ``h`` for ``params``, reused by a lever of the loop settings (built here otherwise).
+    workers : int, optional
+        Threads of the synthesis (:func:`trusscodesign.synthesis.synthesize`; default: up to 2); 1 on a Dask worker,
+        whose process is one of several sharing the cores.
 
     Returns
     -------
@@ -200,7 +203,7 @@ def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: Lo
                            "open_loop_J_c": ol.value["rpe"], "open_loop_omega": ol.omega["rpe"],
                            "open_loop_theta_deg": float(np.rad2deg(ol.scenario["rpe"].theta))}
     if robust:
-        r = design.robust_design(m, s, restarts=restarts)
+        r = design.robust_design(m, s, restarts=restarts, workers=workers)
         worst = r.worst  # None when no gain stabilised the scenario set
         row.update(success=bool(r.success), message=r.message, restarts=r.restarts, J_c=r.j_c, Z_c=r.z_c,
                    critical_omega=worst.omega["rpe"] if worst else np.nan,
@@ -268,7 +271,7 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
             from .codesign import _as_finished
 
             m = client.scatter(base, broadcast=True)
-            futures = {client.submit(evaluate_case, h, table[name], value, params, settings, robust, restarts, m,
+            futures = {client.submit(evaluate_case, h, table[name], value, params, settings, robust, restarts, m, 1,
                                      pure=False, retries=1): t for t, (name, value) in todo}
             for fut in _as_finished(client, futures):
                 yield futures[fut], fut.result()
