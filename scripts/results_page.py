@@ -344,7 +344,8 @@ def nb06(d: dict) -> str:
                    val(tolerant[k]["J_c"]), val(tolerant[k]["Z_c"], 3), "yes" if tolerant[k]["valid"] else "no"]
                   for k in sorted(recipe)]
     valid_recipe = _ranges([k for k in sorted(recipe) if recipe[k]["valid"]])
-    valid_tol = _ranges([k for k in sorted(tolerant) if tolerant[k]["valid"]])
+    valid_tol_list = [k for k in sorted(tolerant) if tolerant[k]["valid"]]
+    valid_tol = _ranges(valid_tol_list)
     design_pct = ", ".join(f"{100 * x:+g}" for x in tt["design_shifts"])
     return f"""## 06 · Closed loop and robust synthesis
 
@@ -384,9 +385,12 @@ is synthesised with {len(tt['design_shifts'])} shifted trusses ({design_pct} %) 
 {table(['shift [%]', "paper's recipe: J_c", 'Z_c', 'valid', 'truss-tolerant: J_c', 'Z_c', 'valid'], shift_rows)}
 
 The paper's-recipe design is valid (stable over the box, Z_c < 1) for shifts of {valid_recipe} only; the
-truss-tolerant one at every shift checked ({valid_tol}), and on the exact truss its J_c is
-{tt['J_c']:.4f}, {pct(tt['J_c'] / d2['J_c'] - 1, 1, True)} from the paper's-recipe design's: at this h, tolerance to
-a truss error of a few per cent costs nothing.
+truss-tolerant one {'at every shift checked (' + valid_tol + ')' if len(valid_tol_list) == len(tolerant) else 'for shifts of ' + valid_tol},
+and on the exact truss its J_c is {tt['J_c']:.4f}, {pct(tt['J_c'] / d2['J_c'] - 1, 1, True)} from the paper's-recipe
+design's: at this h, tolerance to a truss error of a few per cent costs {'little' if tt['J_c'] / d2['J_c'] - 1 > 0.005 else 'nothing'}.
+Beyond the shifts it was designed for, the truss-tolerant design's validity depends on which local optimum the
+synthesis reached: reruns on other machines, which agree with this one to 1e-7 in the designs above, have ended at
+optima valid over a wider or a narrower range.
 """
 
 
@@ -615,8 +619,10 @@ mass and inertia, panel frequency and angle), not to an error of the truss itsel
 only on the exact truss: a section side {plus:+g} % off gives J_c {val(sh[plus]['J_c'], 3)} and Z_c
 {val(sh[plus]['Z_c'], 2)} (effort bound broken), and at {', '.join(f'{k:+g}' for k in unstable)} % the loop is unstable
 somewhere in the box. Notebook 06's design at {p6['h_cm']} cm holds from {min(recipe_ok):+g} % to {max(recipe_ok):+g} %.
-A synthesis given shifted trusses as extra models holds over the whole range checked ({min(tol_ok):+g} % to
-{max(tol_ok):+g} %) at no cost in J_c; an uncertain truss stiffness in the LFT would be the natural next step.
+A synthesis given shifted trusses as extra models ({', '.join(f'{100 * x:+g}' for x in r6['truss_tolerant']['design_shifts'])} %)
+holds from {min(tol_ok):+g} % to {max(tol_ok):+g} % of the shifts checked ({min(c['shift_pct'] for c in tt):+g} % to
+{max(c['shift_pct'] for c in tt):+g} %), at {pct(r6['truss_tolerant']['J_c'] / d2['J_c'] - 1, 1, True)} in J_c on the exact truss;
+an uncertain truss stiffness in the LFT would be the natural next step.
 """
 
 
