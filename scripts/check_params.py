@@ -20,7 +20,7 @@ NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 
 def declared() -> dict[str, set[str]]:
     """The parameters of each notebook's parameters cell, by notebook name (``NN_name``)."""
-    return {nb.stem: set(papermill.inspect_notebook(str(nb))) for nb in sorted(NOTEBOOKS.glob("[0-9][0-9]_*.ipynb"))}
+    return {nb.stem: set(papermill.inspect_notebook(str(nb))) for nb in sorted(NOTEBOOKS.glob("[0-9][0-9]*_*.ipynb"))}
 
 
 def _mapping(path: Path) -> dict:

@@ -26,7 +26,7 @@ export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_
 export MPLBACKEND=Agg
 rm -rf build/smoke build/test-logs && mkdir -p build/smoke build/test-logs
 chain=() others=()
-for nb in notebooks/[0-9][0-9]_*.ipynb; do
+for nb in notebooks/[0-9][0-9]*_*.ipynb; do
   name="$(basename "$nb" .ipynb)"
   args=()
   if [ -f "tests/smoke/$name.yaml" ]; then args=(-f "tests/smoke/$name.yaml"); fi

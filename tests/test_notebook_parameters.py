@@ -23,6 +23,10 @@ CASES = [  # (notebook, bad parameters, what the message must say)
     ("06_robust_synthesis", {"lever_values": {"u_max": [15.0, -5.0]}}, r"lever u_max at -5.0 (effort bound $u_{max}$ [N]): LoopSettings.u_max must be"),
     ("06_robust_synthesis", {"show_spillover": "no"}, r"show_spillover must be True or False, got str 'no'"),
     ("06_robust_synthesis", {"h_values": [0.02139, 3.0]}, r"h_values[1] must be a section side in metres"),
+    ("06b_calibration_tolerance", {"calibration_cases": [{"u_max": 0.1, "t_delta": -1.0}]},
+     r"lever t_delta at -1.0 (RPE window $t_\Delta$ [s]): LoopSettings.t_delta must be"),
+    ("06b_calibration_tolerance", {"tolerance_presets": ["paper"]}, r"tolerance_presets[0] must be one of ['stated', 'paper_calibrated']"),
+    ("06b_calibration_tolerance", {"truss_design_shifts": [0.0, 0.02]}, r"truss_design_shifts must not hold 0"),
     ("07_pso_codesign", {"pso_rule": "MATLAB"}, r"pso_rule must be one of ['documented', 'matlab'], got 'MATLAB'"),
     ("07_pso_codesign", {"run_preset": "False"}, r"run_preset must be True or False, got str 'False'"),
     ("07_pso_codesign", {"preset_particles": 0}, r"preset_particles must be an integer in [2, inf), got 0"),
@@ -33,7 +37,7 @@ CASES = [  # (notebook, bad parameters, what the message must say)
 ]
 
 
-@pytest.mark.parametrize("notebook, bad, message", CASES, ids=[f"{n[:2]}-{next(iter(b))}" for n, b, _ in CASES])
+@pytest.mark.parametrize("notebook, bad, message", CASES, ids=[f"{n.split('_')[0]}-{next(iter(b))}" for n, b, _ in CASES])
 def test_a_bad_parameter_stops_the_notebook_before_any_work(tmp_path: Path, notebook: str, bad: dict, message: str) -> None:
     import papermill as pm
 

@@ -18,7 +18,7 @@ def test_main_job_runs_every_notebook_and_reports_the_failed_one(tmp_path: Path)
     env = dict(os.environ, PYTHON=str(fake), NO_INSTALL="1")
     run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run")], cwd=ROOT, env=env,
                          capture_output=True, text=True)
-    notebooks = sorted(p.name for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    notebooks = sorted(p.name for p in (ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
     assert [Path(line).name for line in calls.read_text().split()] == notebooks  # 08 ran after 07 failed
     assert run.returncode == 1
     assert "FAILED" in run.stderr and "07_pso_codesign.ipynb" in run.stderr
@@ -79,7 +79,7 @@ def test_a_parameter_folder_gives_each_notebook_its_own_file_after_the_common_on
     run = subprocess.run(["bash", str(ROOT / "scripts" / "run_notebooks.sh"), "--params", "study", "--out", "runs/s"],
                          cwd=tmp_path, env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
-    for nb in sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")):
+    for nb in sorted((ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb")):
         args = (calls / nb.stem).read_text().split("\n")
         files = [args[i + 1] for i, a in enumerate(args) if a == "-f"]
         own = [str(study / f"{nb.stem}.yaml")] if nb.stem == "07_pso_codesign" else []
@@ -117,7 +117,7 @@ def test_the_test_command_runs_notebooks_07_and_08_alone_and_in_order(tmp_path: 
     """Two processes: notebook 08 reads what 07 stores, so the chain (07, then 08, then the new-range rerun of 07) has one
     process to itself and the other process gets the other unit tests and every other notebook; no test-distribution plugin
     is asked for."""
-    notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
     calls = _test_sh_calls(tmp_path, "2")  # the two processes run side by side: their lines come in either order
     assert len(calls) == 2
     chain, main = sorted(calls, key=lambda call: "tests" in call)
@@ -218,7 +218,7 @@ def test_an_unknown_parameter_name_is_refused_with_the_allowed_ones(tmp_path: Pa
     (study / "07_pso_codesign.yaml").write_text("n_grid: 5\n")  # a good folder passes the check: the notebooks run
     run = _real_run(tmp_path, study)
     assert run.returncode == 0, run.stderr
-    assert len((tmp_path / "calls.txt").read_text().splitlines()) == len(list((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")))
+    assert len((tmp_path / "calls.txt").read_text().splitlines()) == len(list((ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb")))
 
 
 def test_the_smoke_parameters_are_the_notebooks_own() -> None:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import control as ct
 import numpy as np
@@ -29,7 +30,7 @@ from .lft import LFT
 from .checks import check_option
 from .synthesis import NOT_STABILISED, Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
+__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
            "truss_variants"]
 
 
@@ -101,11 +102,17 @@ def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, om
     ValueError
         For h outside the design range of the parameters (paper: [0.015, 0.03] m).
     """
-    t0 = time.perf_counter()
     p = params or spacecraft.load_parameters()
     low_h, high_h = p["truss"]["h_range"]
     if not (isinstance(h, (int, float, np.floating)) and in_design_range(h, p)):
         raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
+    return _models(float(h), p, omega_max, omega_min, omega_spill)
+
+
+def _models(h: float, p: dict, omega_max: float = 500.0, omega_min: float = 0.01, omega_spill: float = 1e4) -> DesignModels:
+    """:func:`models_at` without the design-range check: a truss variant (a model error of a design) may lie a few per
+    cent beyond the range the co-design searches."""
+    t0 = time.perf_counter()
     if not omega_min < omega_max < omega_spill:
         raise ValueError(f"the frequencies must satisfy omega_min < omega_max < omega_spill [rad/s], got {omega_min!r}, "
                          f"{omega_max!r}, {omega_spill!r}")
@@ -135,7 +142,7 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
     A proxy for an error of the truss model: at ``h (1 + shift)`` every bending frequency of the members moves by
     ``1 + shift`` (bending stiffness ~ h^4, mass ~ h^2; axial and torsional frequencies do not depend on h), as in the
     truss-shift study of notebook 08. Each variant carries its own rigid inertia (its ACS is re-tuned, as for any design
-    at that h).
+    at that h). A variant is a model error, not a design: it may leave the design range (3 cm + 2 % is 3.06 cm).
 
     Parameters
     ----------
@@ -155,31 +162,24 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
     Raises
     ------
     ValueError
-        If a shift is zero (the nominal model itself), not a finite number in (-0.5, 0.5), or moves h out of the
-        design range [m].
+        If a shift is zero (the nominal model itself) or not a finite number in (-0.5, 0.5).
     """
     p = params or spacecraft.load_parameters()
-    low_h, high_h = p["truss"]["h_range"]
-    out = []
     for shift in shifts:
         if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and 0 < abs(shift) < 0.5):
             raise ValueError(f"each truss shift must be a nonzero relative change in (-0.5, 0.5), got {shift!r}")
-        h_s = models.h * (1.0 + float(shift))
-        if not in_design_range(h_s, p):
-            raise ValueError(f"the truss shift {shift:+g} moves h = {models.h} m to {h_s:.6g} m, outside the design range "
-                             f"[{low_h}, {high_h}] m: use shifts that keep h in the range")
-        out.append(models_at(h_s, p, models.omega_max))
-    return out
+    return [_models(spacecraft.check_section_side(models.h * (1.0 + float(shift)), p), p, models.omega_max) for shift in shifts]
 
 
 def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence[float], settings: LoopSettings | None = None,
                       spillover: bool = False, params: dict | None = None,
-                      progress: Callable[[Iterable], Iterable] = iter) -> tuple[list[dict], list[float]]:
+                      progress: Callable[[Iterable], Iterable] = iter, **search) -> list[dict]:
     """Worst case of designs at ``h`` [m] on the spacecraft with its truss section side moved by each relative shift.
 
     The proxy of :func:`truss_variants`: at ``h (1 + shift)`` the spacecraft is rebuilt (its ACS re-tuned on its rigid
     inertia) and the gains are kept; the worst case over the uncertainty box is searched on ``G_r``
-    (:func:`trusscodesign.synthesis.worst_case`). Shift 0 (the designs on their own truss) is always included.
+    (:func:`trusscodesign.synthesis.worst_case`). Shift 0 (the designs on their own truss) is always included; a shifted
+    truss may leave the design range (it is a model error, not a design).
 
     Parameters
     ----------
@@ -196,15 +196,16 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
         Spacecraft parameters (default :func:`trusscodesign.spacecraft.load_parameters`).
     progress : callable
         Wraps the iterable of shifts (e.g. a tqdm progress bar).
+    **search
+        Options of the worst-case search (:func:`trusscodesign.synthesis.worst_case`), e.g. ``thetas_deg`` for a
+        denser set of panel angles than the synthesis searched.
 
     Returns
     -------
-    rows : list of dict
+    list of dict
         One per checked shift and gain: ``design``, ``shift_pct`` [%], ``h_cm`` [cm], ``J_c``, ``omega_J_rad_s``, ``Z_c``,
         ``unstable_box_points``, ``evaluations``, ``spillover_stable`` (with ``spillover``) and ``valid`` (no unstable
         box point, ``Z_c < gamma_u`` and, with ``spillover``, a stable spillover loop).
-    skipped : list of float
-        The shifts that move h out of the design range (not checked).
     """
     settings = settings or LoopSettings.from_parameters()
     p = params or spacecraft.load_parameters()
@@ -222,15 +223,11 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
         if k.shape != (4, 8) or not np.all(np.isfinite(k)):
             raise ValueError(f"gains[{name!r}] must be a finite 4x8 matrix, got shape {k.shape}")
     rows: list[dict] = []
-    skipped: list[float] = []
     for rel in progress(sorted({0.0, *(float(s) for s in shifts)})):
         h_s = h * (1 + rel)
-        if not in_design_range(h_s, p):
-            skipped.append(rel)
-            continue
-        m_s = models_at(h_s, p)
+        m_s = _models(spacecraft.check_section_side(h_s, p), p)
         for name, gain in checked.items():
-            wc = worst_case(m_s.g_r, gain, m_s.inertia, settings)
+            wc = worst_case(m_s.g_r, gain, m_s.inertia, settings, **search)
             row = {"design": name, "shift_pct": 100 * rel, "h_cm": 100 * h_s, "J_c": wc.value["rpe"], "omega_J_rad_s": wc.omega["rpe"],
                    "Z_c": wc.value["effort"], "unstable_box_points": len(wc.unstable), "evaluations": wc.evaluations}
             valid = not wc.unstable and wc.value["effort"] < settings.gamma_u
@@ -239,7 +236,7 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
                 row["spillover_stable"] = bool(loop.closed_loop_poles(gain).real.max() < 0)
                 valid = valid and row["spillover_stable"]
             rows.append({**row, "valid": bool(valid)})
-    return rows, skipped
+    return rows
 
 
 def robust_design(models: DesignModels, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
@@ -296,6 +293,57 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
                       fallbacks=res.fallbacks + again.fallbacks, searches=res.searches + again.searches, restarts=attempt,
                       message=f"{again.message} (after {attempt} restart(s) from the final gain of a failed attempt; first: {first})")
     return res
+
+
+def design_record(res: SynthesisResult) -> dict[str, Any]:
+    """What a robust design is reported and stored with (JSON-able): ``success``, ``message``, ``restarts``, ``J_c``,
+    ``Z_c``, the critical frequency [rad/s] and panel angle [deg] of each (``critical_omega``, ``critical_theta_deg``,
+    ``effort_omega``, ``effort_theta_deg``; NaN when no gain stabilised the scenarios), ``gain``, ``iterations``,
+    ``n_scenarios`` and ``synthesis_time_s``."""
+    worst = res.worst
+    out: dict[str, Any] = {"success": bool(res.success), "message": res.message, "restarts": res.restarts,
+                           "J_c": float(res.j_c), "Z_c": float(res.z_c)}
+    for group, name in (("rpe", "critical"), ("effort", "effort")):
+        out[f"{name}_omega"] = float(worst.omega[group]) if worst else np.nan
+        out[f"{name}_theta_deg"] = float(np.rad2deg(worst.scenario[group].theta)) if worst else np.nan
+    return {**out, "gain": np.asarray(res.gain).tolist(), "iterations": res.iterations, "n_scenarios": len(res.scenarios),
+            "synthesis_time_s": res.time_s}
+
+
+def tolerant_designs(h: float, shifts: Sequence[float], params: dict | None = None, settings: LoopSettings | None = None,
+                     restarts: int = 0, workers: int | None = None) -> dict[str, dict[str, Any]]:
+    """The paper's recipe (the exact truss) and a truss-tolerant design at ``h`` [m], as :func:`design_record` records.
+
+    The tolerant design serves the truss at ``h (1 + shift)`` for each of ``shifts`` as well (:func:`truss_variants`,
+    :func:`robust_design` with ``variants``). Both start from all gains at -1.
+
+    Parameters
+    ----------
+    h : float
+        Section side [m], in the design range.
+    shifts : sequence of float
+        Relative changes of the section side the tolerant design must serve (nonzero, in (-0.5, 0.5)).
+    params, settings
+        Spacecraft parameters (default: the package's) and loop settings (default: those of ``params``).
+    restarts, workers
+        As :func:`robust_design` and :func:`trusscodesign.synthesis.synthesize` (``workers=1`` on a Dask worker).
+
+    Returns
+    -------
+    dict
+        ``{"recipe": record, "tolerant": record}``, each record with ``time_s`` [s] (models included).
+    """
+    p = params or spacecraft.load_parameters()
+    settings = settings or LoopSettings.from_parameters(p)
+    t0 = time.perf_counter()
+    m = models_at(h, p)
+    variants = truss_variants(m, shifts, p)  # bad shifts refused before the first synthesis
+    out = {}
+    for name, extra in (("recipe", []), ("tolerant", variants)):
+        res = robust_design(m, settings, variants=extra, restarts=restarts, workers=workers)
+        out[name] = {**design_record(res), "time_s": time.perf_counter() - t0}
+        t0 = time.perf_counter()
+    return out
 
 
 def stored_design(source: str | int = "auto", results_dir: str = "data/results", h_fallback: float = 0.02139) -> tuple[str, float, NDArray]:

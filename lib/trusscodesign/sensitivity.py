@@ -5,14 +5,15 @@ chosen in notebook 04 where the paper is silent), on a log scale where the range
 one value with every other input at its default, gets the open-loop worst case (PMAs passive) and a robust synthesis
 (:func:`trusscodesign.design.robust_design`), with its critical frequency and panel angle: notebook 06, section 7.
 
-The cases are independent: :func:`study` runs them in this process or on a Dask client, saving each as it finishes, so an
-interrupted study loses only the cases under way.
+A case may also set several levers at once (a mapping ``{lever name: value}``): the calibration of notebook 06b combines
+them. The cases are independent: :func:`study` runs them in this process or on a Dask client, saving each as it
+finishes, so an interrupted study loses only the cases under way.
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,7 +25,9 @@ from . import design, spacecraft
 from .closedloop import LoopSettings
 from .results import read_keyed, run_lock, write_json
 
-__all__ = ["Lever", "levers", "case_inputs", "check_cases", "evaluate_case", "study", "open_loop_map"]
+__all__ = ["Lever", "levers", "case_inputs", "combined_inputs", "check_cases", "evaluate_case", "study", "open_loop_map"]
+
+Case = tuple[str, Any] | Mapping[str, Any]  # one lever at one value, or {lever name: value} for several
 
 
 @dataclass(frozen=True)
@@ -128,9 +131,58 @@ def case_inputs(lever: Lever, value: Any, params: dict, settings: LoopSettings) 
     return spacecraft.with_choices(params, **changes), settings
 
 
-def check_cases(cases: Sequence[tuple[str, Any]], params: dict | None = None,
+def combined_inputs(changes: Mapping[str, Any], params: dict, settings: LoopSettings,
+                    table: Mapping[str, Lever] | None = None) -> tuple[dict, LoopSettings]:
+    """The parameters and loop settings with several levers changed at once (:func:`case_inputs` for each, in turn).
+
+    Parameters
+    ----------
+    changes : mapping of str to value
+        ``{lever name: value}``, at least one.
+    params, settings
+        The inputs of every other lever.
+    table : mapping, optional
+        The levers (default :func:`levers` of ``params``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown lever, an empty case, two levers that set the same input (``truss_damping`` and
+        ``truss_damping_stiffness``), or a value refused (naming the lever, the value and its unit).
+    """
+    table = table if table is not None else levers(params)
+    if not changes:
+        raise ValueError("a case must change at least one lever, got an empty mapping")
+    unknown = sorted(set(changes) - set(table))
+    if unknown:
+        raise ValueError(f"unknown levers {unknown}; allowed: {sorted(table)}")
+    targets: dict[str, str] = {}
+    for name in changes:
+        target = table[name].setting or table[name].model
+        if target in targets:
+            raise ValueError(f"levers {targets[target]} and {name} both set {target}: give one of them")
+        targets[target] = name
+    p, s = params, settings
+    for name, value in changes.items():
+        try:
+            p, s = case_inputs(table[name], value, p, s)
+        except (TypeError, ValueError) as err:
+            raise ValueError(f"lever {name} at {value!r} ({table[name].label}): {err}") from None
+    return p, s
+
+
+def _changes(case: Case) -> dict[str, Any]:
+    """A case as ``{lever name: value}``."""
+    if isinstance(case, Mapping):
+        return dict(case)
+    name, value = case
+    return {name: value}
+
+
+def check_cases(cases: Sequence[Case], params: dict | None = None,
                 settings: LoopSettings | None = None) -> list[tuple[dict, LoopSettings]]:
-    """The inputs of each ``(lever name, value)`` case (:func:`case_inputs`), every case checked first.
+    """The inputs of each case, ``(lever name, value)`` or ``{lever name: value, ...}`` (:func:`combined_inputs`),
+    every case checked first.
 
     Raises
     ------
@@ -140,16 +192,10 @@ def check_cases(cases: Sequence[tuple[str, Any]], params: dict | None = None,
     params = params or spacecraft.load_parameters()
     settings = settings or LoopSettings.from_parameters(params)
     table = levers(params)
-    unknown = sorted({name for name, _ in cases} - set(table))
+    unknown = sorted({name for case in cases for name in _changes(case)} - set(table))
     if unknown:
         raise ValueError(f"unknown levers {unknown}; allowed: {sorted(table)}")
-    out = []
-    for name, value in cases:
-        try:
-            out.append(case_inputs(table[name], value, params, settings))
-        except (TypeError, ValueError) as err:
-            raise ValueError(f"lever {name} at {value!r} ({table[name].label}): {err}") from None
-    return out
+    return [combined_inputs(_changes(case), params, settings, table) for case in cases]
 
 
 class _Sized:
@@ -165,7 +211,7 @@ class _Sized:
         return self._n
 
 
-def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: LoopSettings, robust: bool = True,
+def evaluate_case(h: float, changes: Mapping[str, Any], params: dict, settings: LoopSettings, robust: bool = True,
                   restarts: int = 2, models: design.DesignModels | None = None, workers: int | None = None) -> dict[str, Any]:
     """Open-loop worst case and robust design at section side ``h`` [m] of one case.
 
@@ -173,8 +219,8 @@ def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: Lo
     ----------
     h : float
         Truss section side [m].
-    lever, value
-        The case (:func:`case_inputs`).
+    changes : mapping of str to value
+        The case: ``{lever name: value}`` (:func:`combined_inputs`).
     params, settings
         The inputs of every other lever.
     robust : bool
@@ -182,7 +228,7 @@ def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: Lo
     restarts : int
         Restarts of a failed synthesis (:func:`trusscodesign.design.robust_design`).
     models : DesignModels, optional
-        The models at ``h`` for ``params``, reused by a lever of the loop settings (built here otherwise).
+        The models at ``h`` for ``params``, reused when the case changes loop settings only (built here otherwise).
     workers : int, optional
         Threads of the synthesis (:func:`trusscodesign.synthesis.synthesize`; default: up to 2); 1 on a Dask worker,
         whose process is one of several sharing the cores.
@@ -190,40 +236,36 @@ def evaluate_case(h: float, lever: Lever, value: Any, params: dict, settings: Lo
     Returns
     -------
     dict
-        ``lever``, ``value``, ``default`` (whether it is the default case), the open loop's ``open_loop_J_c``,
-        ``open_loop_omega`` [rad/s] and ``open_loop_theta_deg``, and with ``robust`` the design's ``success``,
-        ``message``, ``restarts``, ``J_c``, ``Z_c``, ``critical_omega`` [rad/s], ``critical_theta_deg``, ``gain``;
-        ``time_s``.
+        The open loop's ``open_loop_J_c``, ``open_loop_omega`` [rad/s] and ``open_loop_theta_deg``, and with ``robust``
+        the design's record (:func:`trusscodesign.design.design_record`: ``J_c``, ``Z_c``, the critical frequencies and
+        panel angles, ``gain``, ...); ``time_s``.
     """
     t0 = time.perf_counter()
-    p, s = case_inputs(lever, value, params, settings)
-    m = models if models is not None and lever.setting else design.models_at(h, params=p)
+    table = levers(params)
+    p, s = combined_inputs(changes, params, settings, table)
+    settings_only = all(table[name].setting for name in changes)
+    m = models if models is not None and settings_only else design.models_at(h, params=p)
     ol = design.open_loop_worst_case(m, s)
-    row: dict[str, Any] = {"lever": lever.name, "value": value, "default": value == lever.default,
-                           "open_loop_J_c": ol.value["rpe"], "open_loop_omega": ol.omega["rpe"],
+    row: dict[str, Any] = {"open_loop_J_c": ol.value["rpe"], "open_loop_omega": ol.omega["rpe"],
                            "open_loop_theta_deg": float(np.rad2deg(ol.scenario["rpe"].theta))}
     if robust:
-        r = design.robust_design(m, s, restarts=restarts, workers=workers)
-        worst = r.worst  # None when no gain stabilised the scenario set
-        row.update(success=bool(r.success), message=r.message, restarts=r.restarts, J_c=r.j_c, Z_c=r.z_c,
-                   critical_omega=worst.omega["rpe"] if worst else np.nan,
-                   critical_theta_deg=float(np.rad2deg(worst.scenario["rpe"].theta)) if worst else np.nan,
-                   gain=np.asarray(r.gain).tolist())
+        row.update(design.design_record(design.robust_design(m, s, restarts=restarts, workers=workers)))
     row["time_s"] = time.perf_counter() - t0
     return row
 
 
-def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None, settings: LoopSettings | None = None,
+def study(h: float, cases: Sequence[Case], params: dict | None = None, settings: LoopSettings | None = None,
           robust: bool = True, restarts: int = 2, client=None, partial: str | Path | None = None,
           progress: Callable[[Iterable], Iterable] = iter) -> list[dict[str, Any]]:
-    """:func:`evaluate_case` for each ``(lever name, value)`` of ``cases``, in the order given.
+    """:func:`evaluate_case` for each case of ``cases``, in the order given.
 
     Parameters
     ----------
     h : float
         Truss section side [m].
-    cases : sequence of (str, value)
-        The cases (e.g. every value of every lever of :func:`levers`).
+    cases : sequence of (str, value) or of mappings
+        The cases: ``(lever name, value)`` (e.g. every value of every lever of :func:`levers`) or
+        ``{lever name: value, ...}`` for several levers at once.
     params, settings
         Defaults: the package's parameters and their loop settings.
     robust, restarts
@@ -251,9 +293,9 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
     # every case's inputs checked before the first synthesis; cases with the same inputs (the default value of each
     # lever is the same spacecraft and loop) are evaluated once
     tags = [_tag(*inputs) for inputs in check_cases(cases, params, settings)]
-    first: dict[str, tuple[str, Any]] = {}
+    first: dict[str, dict[str, Any]] = {}
     for t, c in zip(tags, cases):
-        first.setdefault(t, c)
+        first.setdefault(t, _changes(c))
     key = dict(h=h, inputs=spacecraft.inputs_key(params), settings=settings.__dict__, robust=robust, restarts=restarts,
                algorithm=ALGORITHM)
     with run_lock(partial) if partial is not None else nullcontext():
@@ -265,14 +307,14 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
         def finished():
             yield from ((t, done[t]) for t in first if t in done)
             if client is None:
-                for t, (name, value) in todo:
-                    yield t, evaluate_case(h, table[name], value, params, settings, robust, restarts, base)
+                for t, changes in todo:
+                    yield t, evaluate_case(h, changes, params, settings, robust, restarts, base)
                 return
             from .codesign import _as_finished
 
             m = client.scatter(base, broadcast=True)
-            futures = {client.submit(evaluate_case, h, table[name], value, params, settings, robust, restarts, m, 1,
-                                     pure=False, retries=1): t for t, (name, value) in todo}
+            futures = {client.submit(evaluate_case, h, changes, params, settings, robust, restarts, m, 1,
+                                     pure=False, retries=1): t for t, changes in todo}
             for fut in _as_finished(client, futures):
                 yield futures[fut], fut.result()
 
@@ -283,8 +325,17 @@ def study(h: float, cases: Sequence[tuple[str, Any]], params: dict | None = None
             done[tag] = row
         if partial is not None and Path(partial).exists():
             Path(partial).unlink()
-    return [{**done[t], "lever": name, "value": value, "default": value == table[name].default}
-            for t, (name, value) in zip(tags, cases)]
+    return [{**done[t], **_labels(_changes(c), table)} for t, c in zip(tags, cases)]
+
+
+def _labels(changes: dict[str, Any], table: Mapping[str, Lever]) -> dict[str, Any]:
+    """How a case is reported: ``lever`` and ``value`` (for several levers, their names joined by ``+`` and the mapping),
+    and ``default``, whether every lever is at its default."""
+    default = all(v == table[n].default for n, v in changes.items())
+    if len(changes) == 1:
+        (name, value), = changes.items()
+        return {"lever": name, "value": value, "default": default}
+    return {"lever": "+".join(changes), "value": changes, "default": default}
 
 
 def _tag(params: dict, settings: LoopSettings) -> str:

@@ -33,7 +33,7 @@ from .titop import DAMPING_MODELS, Section
 from .truss import t_truss, truss_members, truss_nodes
 
 __all__ = ["MODEL", "load_parameters", "parameters_fingerprint", "inputs_key", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
-           "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset"]
+           "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset", "preset_parameters"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
 OUTPUTS = (["LOS_el", "LOS_az"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
@@ -432,3 +432,35 @@ def load_preset(name: str) -> dict:
     if not isinstance(name, str) or name not in known:  # a name, not a path: "../parameters" must not reach other files
         raise ValueError(f"unknown preset {name!r}: give the name of a file of {folder} without .json; available: {known}")
     return json.loads((folder / f"{name}.json").read_text())
+
+
+def preset_parameters(name: str, params: dict | None = None) -> dict:
+    """The spacecraft parameters with the named preset applied (a copy; ``params`` default: the package's).
+
+    A preset's ``closed_loop`` and ``choices`` entries replace those of the parameters (the loop settings follow:
+    ``LoopSettings.from_parameters``); its ``model`` entries are keywords of :func:`with_choices` (truss damping and
+    its model, antenna node, SADM joint, panel frames). Everything is in the parameters, so every cached or stored
+    result keyed on them (:func:`inputs_key`) knows the preset.
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset, or a preset entry the parameters do not have (naming it and the allowed ones).
+    """
+    import copy
+
+    preset = load_preset(name)
+    p = copy.deepcopy(params or load_parameters())
+    for section in ("closed_loop", "choices"):
+        entries = {k: v for k, v in preset.get(section, {}).items() if not k.startswith("_")}
+        unknown = sorted(set(entries) - set(p[section]))
+        if unknown:
+            raise ValueError(f"preset {name!r}: unknown {section} entries {unknown}; allowed: "
+                             f"{sorted(k for k in p[section] if not k.startswith('_'))}")
+        p[section].update(entries)
+    model = preset.get("model", {})
+    try:
+        return with_choices(p, **model)
+    except TypeError:
+        raise ValueError(f"preset {name!r}: unknown model entries {sorted(model)}; allowed: the keywords of "
+                         "trusscodesign.spacecraft.with_choices") from None

@@ -138,7 +138,7 @@ def test_rigid_hub_needs_a_positive_definite_inertia_and_mass_range():
 
 @pytest.mark.parametrize("name", ["../parameters", "../presets/paper_match"])
 def test_load_preset_takes_names_of_presets_only(name):
-    with pytest.raises(ValueError, match=r"unknown preset.*available: \['paper_match'\]"):  # ../parameters was returned
+    with pytest.raises(ValueError, match=r"unknown preset.*available: \['paper_calibrated', 'paper_match'\]"):  # ../parameters was returned
         spacecraft.load_preset(name)
     assert "closed_loop" in spacecraft.load_preset("paper_match")
 

@@ -259,3 +259,28 @@ def test_stored_design_refuses_a_design_of_other_spacecraft_parameters(tmp_path:
     results.save_results("06_robust_synthesis", {"designs": {"2.139": {"gain": gain}}}, tmp_path)  # no inputs recorded
     with pytest.raises(ValueError, match="spacecraft_parameters: None stored"):
         design.stored_design("06", str(tmp_path), 0.02139)
+
+
+def test_tolerant_designs_serve_the_shifted_trusses_and_record_both(monkeypatch) -> None:
+    """Stand-in models and synthesis: the recipe sees no variant, the tolerant design the shifted trusses (built before
+    the first synthesis, so that a bad shift costs nothing); the records are JSON-able with the critical frequencies
+    and angles, NaN when no gain stabilised the scenarios."""
+    from trusscodesign.synthesis import SynthesisResult, WorstCase
+
+    calls: list = []
+    monkeypatch.setattr(design, "models_at", lambda h, p: design.DesignModels(h, None, None, None, np.eye(3), 0.0, 0.0))
+    monkeypatch.setattr(design, "truss_variants", lambda m, shifts, p: calls.append(("variants", list(shifts))) or ["v1", "v2"])
+
+    def fake(m, settings, variants=(), restarts=0, workers=None):
+        calls.append(("design", list(variants)))
+        worst = WorstCase({"rpe": 0.5, "effort": 0.9}, {"rpe": design.Scenario(theta=np.pi / 2), "effort": design.Scenario()},
+                          {"rpe": 97.5, "effort": 418.0}, 10) if variants else None
+        return SynthesisResult(-np.ones((4, 8)), 0.5, 0.9, bool(variants), "ok" if variants else "not stabilised", [], worst, 3, 1.0, 5)
+
+    monkeypatch.setattr(design, "robust_design", fake)
+    out = design.tolerant_designs(0.02, [-0.02, 0.02], spacecraft.load_parameters())
+    assert calls == [("variants", [-0.02, 0.02]), ("design", []), ("design", ["v1", "v2"])]
+    tol, rec = out["tolerant"], out["recipe"]
+    assert (tol["critical_omega"], tol["critical_theta_deg"], tol["effort_omega"]) == (97.5, 90.0, 418.0)
+    assert np.isnan(rec["critical_omega"]) and rec["success"] is False and np.shape(tol["gain"]) == (4, 8)
+    json.dumps(results.to_jsonable(out), allow_nan=False)

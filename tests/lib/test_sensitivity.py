@@ -89,7 +89,7 @@ def test_an_interrupted_study_resumes_from_its_partial_file(params, tmp_path, mo
     assert partial.exists()
     calls = []
     real = sensitivity.evaluate_case
-    monkeypatch.setattr(sensitivity, "evaluate_case", lambda h, lever, value, *a: calls.append(value) or real(h, lever, value, *a))
+    monkeypatch.setattr(sensitivity, "evaluate_case", lambda h, ch, *a: calls.append(*ch.values()) or real(h, ch, *a))
     rows = sensitivity.study(H, cases, params=params, robust=False, partial=partial)
     assert calls == [0.1] and [r["value"] for r in rows] == [0.01, 0.1]
     assert not partial.exists()  # removed once complete
@@ -103,9 +103,33 @@ def test_cases_with_the_same_inputs_are_evaluated_once(params, monkeypatch) -> N
     """Every lever's default is the same spacecraft and loop: one evaluation, reported under each lever."""
     calls = []
     real = sensitivity.evaluate_case
-    monkeypatch.setattr(sensitivity, "evaluate_case", lambda h, lever, value, *a: calls.append(lever.name) or real(h, lever, value, *a))
+    monkeypatch.setattr(sensitivity, "evaluate_case", lambda h, ch, *a: calls.append(*ch) or real(h, ch, *a))
     cases = [("u_max", 15.0), ("t_delta", 0.003), ("truss_damping", 1e-3), ("truss_damping_stiffness", 1e-3)]
     rows = sensitivity.study(H, cases, params=params, robust=False)
     assert calls == ["u_max", "truss_damping_stiffness"]
     assert [(r["lever"], r["value"], r["default"]) for r in rows] == [(*c, True) for c in cases]
     assert rows[0]["open_loop_J_c"] == rows[1]["open_loop_J_c"] == rows[2]["open_loop_J_c"] != rows[3]["open_loop_J_c"]
+
+
+def test_a_combined_case_sets_every_lever_it_names(params, monkeypatch) -> None:
+    """Several levers at once (the calibration's cases): each sets its own input, in one evaluation; conflicting or
+    bad levers are refused, naming the lever and its unit, before any model is built."""
+    settings = LoopSettings.from_parameters(params)
+    p, s = sensitivity.combined_inputs({"antenna_node": "N17", "truss_damping": 2.5e-4, "u_max": 0.3}, params, settings)
+    assert (p["antenna"]["node"], p["truss"]["damping"], p["truss"]["damping_model"]) == ("N17", 2.5e-4, "clamped_modes")
+    assert s == settings.replace(u_max=0.3) and params["antenna"]["node"] == "N20"
+    monkeypatch.setattr(sensitivity.design, "models_at", lambda *a, **k: pytest.fail("a model was built"))
+    with pytest.raises(ValueError, match="truss_damping and truss_damping_stiffness both set truss_damping"):
+        sensitivity.study(H, [{"truss_damping": 1e-4, "truss_damping_stiffness": 1e-4}], params=params)
+    with pytest.raises(ValueError, match=r"lever t_delta at -1.0 \(RPE window .*\[s\]\)"):
+        sensitivity.study(H, [("u_max", 5.0), {"u_max": 1.0, "t_delta": -1.0}], params=params)
+    with pytest.raises(ValueError, match="at least one lever"):
+        sensitivity.study(H, [{}], params=params)
+
+
+def test_a_combined_case_is_the_same_as_its_levers_applied_in_turn(params, monkeypatch) -> None:
+    """The combined case {p_max, eps_max} of the open loop is the closed form of both scalings together, and it is
+    reported with its levers and values."""
+    rows = sensitivity.study(H, [("p_max", 0.382), {"p_max": 1.2, "eps_max": 1e-5}], params=params, robust=False)
+    assert rows[1]["open_loop_J_c"] / rows[0]["open_loop_J_c"] == pytest.approx(1.2 / 0.382 * 5.0, rel=1e-6)
+    assert (rows[1]["lever"], rows[1]["value"], rows[1]["default"]) == ("p_max+eps_max", {"p_max": 1.2, "eps_max": 1e-5}, False)

@@ -224,3 +224,36 @@ def test_sadm_joint_of_a_panel_with_uncoupled_modes_is_a_rigid_body_on_a_spring_
     w = np.array([0.5, np.sqrt(k / j_e), 20.0])
     s = panel.channels("SP1")[0]
     np.testing.assert_allclose(panel.freqresp(w)[s, s], 1.0 / (-j_e * w**2 + 1j * f * w + k), rtol=1e-9)
+
+
+def test_a_preset_sets_the_parameters_it_names_and_nothing_else(tmp_path, monkeypatch):
+    """A preset's loop settings, choices and model inputs reach the parameters (and so their fingerprint, which keys
+    every stored result); an entry the parameters do not have is refused, naming it."""
+    import json
+
+    from trusscodesign import paths
+    from trusscodesign.closedloop import LoopSettings
+
+    base = spacecraft.load_parameters()
+    p = spacecraft.preset_parameters("paper_calibrated")
+    preset = spacecraft.load_preset("paper_calibrated")
+    s = LoopSettings.from_parameters(p)
+    for k, v in preset["closed_loop"].items():
+        if not k.startswith("_"):
+            assert getattr(s, k) == v
+    model = preset["model"]
+    assert p["antenna"]["node"] == model["antenna_node"] and p["truss"]["damping"] == model["truss_damping"]
+    assert p["truss"]["damping_model"] == model["truss_damping_model"]
+    assert spacecraft.parameters_fingerprint(p) != spacecraft.parameters_fingerprint(base)
+    assert base == spacecraft.load_parameters()  # the package's parameters are not edited
+    untouched = {k: v for k, v in base["closed_loop"].items() if k not in preset["closed_loop"]}
+    assert all(p["closed_loop"][k] == v for k, v in untouched.items()) and p["hub"] == base["hub"]
+    folder = tmp_path / "spacecraft" / "presets"
+    folder.mkdir(parents=True)
+    (folder / "bad.json").write_text(json.dumps({"closed_loop": {"u_maximum": 1.0}}))
+    (folder / "bad_model.json").write_text(json.dumps({"model": {"antenna": "N17"}}))
+    monkeypatch.setattr(paths, "PACKAGE_DATA", tmp_path)
+    with pytest.raises(ValueError, match=r"preset 'bad': unknown closed_loop entries \['u_maximum'\]; allowed: .*'u_max'"):
+        spacecraft.preset_parameters("bad", base)
+    with pytest.raises(ValueError, match=r"preset 'bad_model': unknown model entries \['antenna'\]"):
+        spacecraft.preset_parameters("bad_model", base)

@@ -360,8 +360,20 @@ def test_truss_variants_refuse_bad_shifts():
     for bad in (0.6, float("nan"), "0.01", 0.0):
         with pytest.raises(ValueError, match="nonzero relative change"):
             design.truss_variants(base, [bad])
-    with pytest.raises(ValueError, match=r"truss shift -0.01 moves h = 0.015 m to 0.01485 m, outside the design range \[0.015, 0.03\]"):
-        design.truss_variants(base, [-0.01])  # 1.485 cm: below the design range
+
+
+def test_truss_variants_may_leave_the_design_range(monkeypatch):
+    """A variant is a model error of a design, not a design: 3 cm + 2 % (3.06 cm) and 1.5 cm - 2 % are built, with
+    the model's own limits (slender members) and the design's spillover cut."""
+    from trusscodesign import design
+
+    built = []
+    monkeypatch.setattr(design, "_models", lambda h, p, omega_max: built.append((round(h, 12), omega_max)) or h)
+    for h in (0.03, 0.015):
+        design.truss_variants(design.DesignModels(h, None, None, None, np.eye(3), 0.0, 0.0, 400.0), [-0.02, 0.02])
+    assert built == [(0.0294, 400.0), (0.0306, 400.0), (0.0147, 400.0), (0.0153, 400.0)]
+    with pytest.raises(ValueError, match="h must be a section side in metres"):  # 20 cm + 1 %: beyond the beam model
+        design.truss_variants(design.DesignModels(0.2, None, None, None, np.eye(3), 0.0, 0.0), [0.01])
 
 
 def test_variants_are_built_at_every_scenario_and_searched(monkeypatch, model, inertia):
@@ -467,9 +479,10 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
             design.robust_design(base, ST, spillover=False, restarts=bad)
 
 
-def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
-    """Stand-in models and searches: shift 0 always checked, shifts leaving the design range skipped, a row per gain
-    and shift, valid = no unstable box point, Z_c < gamma_u and (with spillover) a stable spillover loop."""
+def test_truss_shift_check_judges_validity_beyond_the_design_range(monkeypatch):
+    """Stand-in models and searches: shift 0 always checked, shifts leaving the design range checked as well (a model
+    error, not a design), a row per gain and shift, valid = no unstable box point, Z_c < gamma_u and (with spillover)
+    a stable spillover loop."""
     from trusscodesign import design
 
     built = []
@@ -489,16 +502,17 @@ def test_truss_shift_check_skips_out_of_range_and_judges_validity(monkeypatch):
         z = 2.0 if gain[0, 0] > 0 else 0.5
         return synthesis.WorstCase({"rpe": 0.02, "effort": z}, {"rpe": Scenario(), "effort": Scenario()}, {"rpe": 4.0, "effort": 3.0}, 7)
 
-    monkeypatch.setattr(design, "models_at", fake_models)
+    monkeypatch.setattr(design, "_models", fake_models)
     monkeypatch.setattr(design, "worst_case", fake_search)
     monkeypatch.setattr(design, "plant_at", lambda m, sc, inertia, settings: Loop(m[1]))
     gains = {"ok": -np.ones((4, 8)), "too much effort": np.ones((4, 8))}
-    rows, skipped = design.truss_shift_check(0.015, gains, [-0.02, 0.04], ST, spillover=True)
-    assert skipped == [-0.02] and built == [0.015, 0.0156]
+    rows = design.truss_shift_check(0.015, gains, [-0.02, 0.04], ST, spillover=True)
+    assert built == [0.0147, 0.015, 0.0156]
     assert [(r["design"], round(r["shift_pct"], 9), r["valid"]) for r in rows] == [
-        ("ok", 0.0, True), ("too much effort", 0.0, False), ("ok", 4.0, False), ("too much effort", 4.0, False)]
-    assert rows[2]["spillover_stable"] is False and rows[0]["evaluations"] == 7
-    rows, _ = design.truss_shift_check(0.015, gains, [0.04], ST)  # without the spillover check
+        ("ok", -2.0, True), ("too much effort", -2.0, False), ("ok", 0.0, True), ("too much effort", 0.0, False),
+        ("ok", 4.0, False), ("too much effort", 4.0, False)]
+    assert rows[4]["spillover_stable"] is False and rows[0]["evaluations"] == 7
+    rows = design.truss_shift_check(0.015, gains, [0.04], ST)  # without the spillover check
     assert "spillover_stable" not in rows[0] and [r["valid"] for r in rows] == [True, False, True, False]
 
 
