@@ -38,7 +38,7 @@ def _how(parameters: dict) -> str:
 def rows(root: Path) -> list[tuple[str, str, str, str]]:
     """``(quantity, paper, this toolkit, notebook)`` rows of the summary."""
     r3, r4, r5 = _load(root, "03_cube_vs_nastran"), _load(root, "04_t_truss_spacecraft"), _load(root, "05_lft_reduction")
-    r6, r8 = _load(root, "06_robust_synthesis"), _load(root, "08_worst_case_mu")
+    r6, r6b, r8 = _load(root, "06_robust_synthesis"), _load(root, "06b_calibration_tolerance"), _load(root, "08_worst_case_mu")
     f7 = _load(root, "07_pso_codesign", whole=True)
     r7, how = f7["results"], _how(f7["parameters"])
     err = r3["mean_relative_error_vs_nastran"]
@@ -80,6 +80,15 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
         (f"Two-sided sensitivity at h = {p6['h_cm']} cm, {len(lev)} levers one at a time: those that bring the robust J_c "
          "within x3 of the paper's; the largest spreads of J_c over a lever's range", "-",
          f"{', '.join(paper_order) or 'none'}; " + ", ".join(f"{x['lever']} x{x['factor_over_range']:.3g}" for x in strongest), "06"),
+        (f"Calibrated preset (`{r6b['preset']['name']}`: " + ", ".join(f"{x['input']} {x['calibrated']}" for x in r6b["preset"]["departures"]
+                                                                   if x["input"] != "truss_damping_model")
+         + f"), robust design at h = {p6['h_cm']} cm: J_c / critical frequency / panel angle / Z_c",
+         f"{p6['J_c']} / {p6['critical_omega_rad_s']:.1f} rad/s / 69.4 deg / {p6['Z_c_mu_upper']:.2f}",
+         "{J_c:.4f} / {critical_omega:.1f} rad/s / {critical_theta_deg:.1f} deg / {Z_c:.3f}".format(**r6b["residuals"][1]), "06b"),
+        ("Truss-tolerant designs (stated values and calibrated preset, " + " and ".join(sorted({f"{x['h_cm']:.3f}".rstrip("0").rstrip(".") for x in r6b["designs"]}, key=float))
+         + " cm): checked shifts of the truss section side where stable with Z_c < 1; price in J_c on the exact truss", "-",
+         "; ".join(f"{x['preset']} {x['h_cm']:g} cm: {x['valid_shifts']}/{x['checked_shifts']}, {100 * x['J_c_price']:+.1f} %"
+                   for x in r6b["designs"] if x["design"] == "tolerant"), "06b"),
         ("Co-design optimum: h / truss mass / change from m0 / J_c",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
          f"{100 * opt['h']:.3f} cm / {opt['mass']:.2f} kg / {100 * (opt['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / "
