@@ -436,6 +436,17 @@ Levers that bring the robust J_c within x3 of {pj}: {', '.join(near) or 'none'};
 Cases without a valid design: {', '.join(failed) or 'none'}.{map_text}"""
 
 
+def _preset_why(stored: dict) -> dict[str, str]:
+    """Why each value of the stored run's preset: the words of the package's preset file (documentation, not a
+    result), which must still hold the values the run used (else the notebook is to be rerun)."""
+    path = Path(__file__).resolve().parents[1] / "lib" / "trusscodesign" / "data" / "spacecraft" / "presets" / f"{stored['name']}.json"
+    current = json.loads(path.read_text())
+    values = {k: v for k, v in current.items() if not k.startswith("_")}
+    if values != {k: v for k, v in stored["file"].items() if not k.startswith("_")}:
+        raise ValueError(f"the preset {stored['name']!r} has changed since notebook 06b's stored run: rerun notebook 06b")
+    return current.get("_why", {})
+
+
 def nb06b(d: dict) -> str:
     r, p = d["06b"]["results"], d["06b"]["parameters"]
     paper, pre = r["paper"], r["preset"]
@@ -451,9 +462,10 @@ def nb06b(d: dict) -> str:
              val(x["Z_c"], 3), f"{x['critical_omega']:.1f}", f"{x['critical_theta_deg']:.1f}", pct(x["J_c_residual"], 1, True),
              pct(x["omega_residual"], 1, True), f"{x['theta_residual_deg']:+.1f}", "yes" if x["success"] else "no"]
             for x in r["calibration"]]
+    why = _preset_why(pre)
     deps = [[x["input"], str(x["stated"]), str(x["calibrated"]),
-             f"x{num(x['factor']):.3g}" if not isinstance(x["factor"], str) and not math.isnan(num(x["factor"])) else "-", x["why"]]
-            for x in pre["departures"]]
+             f"x{num(x['factor']):.3g}" if not isinstance(x["factor"], str) and not math.isnan(num(x["factor"])) else "-",
+             why.get(x["input"], "")] for x in pre["departures"]]
     res = [[x["source"], val(x["J_c"]), f"{x['critical_omega']:.1f}", f"{x['critical_theta_deg']:.1f}", val(x["Z_c"], 3),
             pct(x["J_c_residual"], 1, True), pct(x["omega_residual"], 1, True), f"{x['theta_residual_deg']:+.1f}",
             f"{x['Z_c_residual']:+.3f}"] for x in r["residuals"]]
@@ -486,17 +498,19 @@ Against the paper at h = {p['h_design'] * 100:.3f} cm:
 
 {table(['', 'J_c', 'critical frequency [rad/s]', 'panel angle [deg]', 'Z_c', 'J_c residual', 'frequency residual', 'angle residual [deg]', 'Z_c - 0.900'], res)}
 
-The critical angle is the one outcome not met. The preset's design is a minimax design, and its worst case over the
-box's corners is nearly flat over the panel angle: at the paper's {paper['critical_theta_deg']} deg it is
-{at_paper['J']:.4f} ({pct(at_paper['J'] / worst - 1, 1, True)} from the worst, {worst:.4f}), and the angles within 1 % of
-the worst are {', '.join(near)} deg. Which of several nearly equal peaks ends on top decides the critical angle, so
-it cannot be calibrated on. The mu bounds of the same design on `G_r_low` (every flexible mode; upper / lower):
+J_c is matched by the RPE window, a pure scale of J_c, not predicted. The critical angle is not met, and cannot be:
+the preset's design is a minimax design, and its worst case over the box's corners is nearly flat over the panel angle.
+At the paper's {paper['critical_theta_deg']} deg it is {at_paper['J']:.4f}, {pct(1 - at_paper['J'] / worst, 1)} below the
+worst ({worst:.4f}), and the angles within 1 % of the worst are {', '.join(near)} deg. Which of several nearly equal peaks
+ends on top decides the critical angle, and the critical frequency too: the frequency match is as fragile. Z_c and
+the mu bounds are not met either. The mu bounds of the same design on `G_r_low` (every flexible mode; upper / lower):
 {mu or 'not computed in this run'}.
 
 **Designs that tolerate a truss error.** For each preset and h, the paper's recipe (the exact truss) and a design that also
 serves trusses with the section side shifted by {', '.join(f'{signed(100 * s)}' for s in p['truss_design_shifts'])} %. Each
 is then checked at the shifts {checks} % by a worst-case search with {p['dense_thetas']} panel angles, and by the
-stability of the shifted spillover loop; none of these checks was part of the synthesis:
+stability of the shifted spillover loop: the shifts between the design shifts are trusses the synthesis never saw, and
+at every shift the search is denser than the synthesis's:
 
 {table(['preset', 'h [cm]', 'design', 'J_c', 'Z_c', 'critical frequency', 'valid shifts', 'largest checked J_c', 'largest checked Z_c', 'J_c price', 'largest gain'], tol)}
 
@@ -679,14 +693,14 @@ gives J_c {t_preset['J_c']:.3f}. The paper's critical mode ({p6['critical_omega_
 here ({d2['worst_rpe']['rpe_omega_rad_s']:.1f} rad/s); the closest among the cases is that of {closest['lever']} =
 {closest['value']} ({closest['critical_omega']:.1f} rad/s).
 
-**Calibrated, the outcomes come back, but one input departs far from the paper.** Notebook 06b sets several of these
+**Calibrated, J_c and the critical frequency come back, not the angle, and one input departs far from the paper.** Notebook 06b sets several of these
 inputs together. Its preset `{r6b['preset']['name']}` ({deps}) gives J_c {cal['J_c']:.4f}
 ({pct(cal['J_c_residual'], 1, True)}) at {cal['critical_omega']:.1f} rad/s ({pct(cal['omega_residual'], 1, True)}) with the effort
 bound active (Z_c {cal['Z_c']:.3f}). The critical panel angle is {cal['critical_theta_deg']:.1f} deg, not
-{r6b['paper']['critical_theta_deg']} deg, but the worst case there is only {pct(at_paper['J'] / worst_j - 1, 1, True)} from the
-worst. The price is an actuator authority {1 / num(factor['u_max']):.0f} times below the stated {r6['settings']['u_max']:g} N, which the
-paper's own PMA data (a 0.1 kg proof mass on a 10 N/m suspension) make plausible, and a truss damped
-{1 / num(factor['truss_damping']):.1f} times less than the stated ratio in this beam model.
+{r6b['paper']['critical_theta_deg']} deg, where the worst case is only {pct(1 - at_paper['J'] / worst_j, 1)} lower (the
+critical angle of a minimax design is ill-determined), and J_c is matched by scaling the RPE window. The price is an
+actuator authority {1 / num(factor['u_max']):.0f} times below the stated {r6['settings']['u_max']:g} N, which nothing in the paper
+supports, and a truss damped {1 / num(factor['truss_damping']):.1f} times less than the stated ratio in this beam model.
 
 **J_c is flat in h.** Over the co-design grid the valid syntheses give J_c of {jv[0]:.4f}-{jv[-1]:.4f} (median
 {median:.4f}{'; plateau stops aside: ' + stalls_text(stalls) if stalls else ''}), from a truss of {valid[0]['mass']:.1f} kg to one of
@@ -711,7 +725,7 @@ holds from {min(tol_ok):+g} % to {max(tol_ok):+g} % of the shifts checked ({min(
 {max(c['shift_pct'] for c in tt):+g} %), at {pct(r6['truss_tolerant']['J_c'] / d2['J_c'] - 1, 1, True)} in J_c on the exact truss.
 Notebook 06b's truss-tolerant designs, on both presets at {' and '.join(sorted({f"{x['h_cm']:g}" for x in tol_designs}, key=float))} cm,
 are valid at {sum(x['valid_shifts'] for x in tol_designs)} of {sum(x['checked_shifts'] for x in tol_designs)} checked
-shifts within their design range; an uncertain truss stiffness in the LFT would be the natural next step.
+shifts within ±2 %; an uncertain truss stiffness in the LFT would be the natural next step.
 """
 
 

@@ -50,6 +50,8 @@ mkdir -p "$nbdir"
 # A notebook whose final checks fail (e.g. notebook 07's PSO-versus-grid check) has already saved its results and
 # figures: the later notebooks still run, and the job exits non-zero at the end naming the failed ones.
 failed=()
+# byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
+export LC_COLLATE=C
 for nb in notebooks/[0-9][0-9]*_*.ipynb; do
   echo "== $nb"
   own=()  # a parameter folder's files for this notebook: all.yaml, then its own (later files override earlier ones)

@@ -26,6 +26,8 @@ export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_
 export MPLBACKEND=Agg
 rm -rf build/smoke build/test-logs && mkdir -p build/smoke build/test-logs
 chain=() others=()
+# byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
+export LC_COLLATE=C
 for nb in notebooks/[0-9][0-9]*_*.ipynb; do
   name="$(basename "$nb" .ipynb)"
   args=()

@@ -458,9 +458,11 @@ def preset_parameters(name: str, params: dict | None = None) -> dict:
             raise ValueError(f"preset {name!r}: unknown {section} entries {unknown}; allowed: "
                              f"{sorted(k for k in p[section] if not k.startswith('_'))}")
         p[section].update(entries)
-    model = preset.get("model", {})
-    try:
-        return with_choices(p, **model)
-    except TypeError:
-        raise ValueError(f"preset {name!r}: unknown model entries {sorted(model)}; allowed: the keywords of "
-                         "trusscodesign.spacecraft.with_choices") from None
+    import inspect
+
+    model = {k: v for k, v in preset.get("model", {}).items() if not k.startswith("_")}
+    allowed = [k for k in inspect.signature(with_choices).parameters if k != "params"]
+    unknown = sorted(set(model) - set(allowed))
+    if unknown:
+        raise ValueError(f"preset {name!r}: unknown model entries {unknown}; allowed: {allowed}")
+    return with_choices(p, **model)

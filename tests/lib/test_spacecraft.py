@@ -252,8 +252,11 @@ def test_a_preset_sets_the_parameters_it_names_and_nothing_else(tmp_path, monkey
     folder.mkdir(parents=True)
     (folder / "bad.json").write_text(json.dumps({"closed_loop": {"u_maximum": 1.0}}))
     (folder / "bad_model.json").write_text(json.dumps({"model": {"antenna": "N17"}}))
+    (folder / "bad_value.json").write_text(json.dumps({"model": {"truss_damping": "1e-4", "_why": "a text"}}))
     monkeypatch.setattr(paths, "PACKAGE_DATA", tmp_path)
     with pytest.raises(ValueError, match=r"preset 'bad': unknown closed_loop entries \['u_maximum'\]; allowed: .*'u_max'"):
         spacecraft.preset_parameters("bad", base)
-    with pytest.raises(ValueError, match=r"preset 'bad_model': unknown model entries \['antenna'\]"):
+    with pytest.raises(ValueError, match=r"preset 'bad_model': unknown model entries \['antenna'\]; allowed: .*'antenna_node'"):
         spacecraft.preset_parameters("bad_model", base)
+    with pytest.raises(TypeError, match="truss_damping must be a real number"):  # named, not called an unknown entry
+        spacecraft.preset_parameters("bad_value", base)
