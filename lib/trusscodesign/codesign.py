@@ -33,7 +33,7 @@ from .closedloop import LoopSettings
 from .results import normalise_key, read_keyed, run_lock, write_json
 from .synthesis import Scenario
 
-__all__ = ["M0_PAPER", "H_M0", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+__all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
@@ -93,10 +93,17 @@ def truss_mass_from_dc(models, params: dict | None = None) -> float:
     return mass - sum(others.values())
 
 
+#: What a failed evaluation raises: a model that cannot be built at h, a singular matrix, a synthesis or solver that
+#: does not converge, an overflow. The particle is penalised and the run goes on.
+NUMERICAL_FAILURES: tuple[type[Exception], ...] = (ArithmeticError, ValueError, RuntimeError)
+#: Subclasses of those that are programming errors, not numerics: they stop the run with their traceback.
+NOT_NUMERICAL: tuple[type[Exception], ...] = (NotImplementedError, RecursionError, UnicodeError)
+
+
 def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
                       m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None,
                       scenarios0: Sequence[Sequence[float]] | None = None) -> dict:
-    """One objective evaluation (Steps 1-4 for one particle); never raises.
+    """One objective evaluation (Steps 1-4 for one particle); a numerical failure is a penalised particle, not an error.
 
     Parameters
     ----------
@@ -123,7 +130,13 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
         ``h``, ``f``, ``J_c``, ``Z_c``, ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
         (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
         ``t_model`` (= ``t_build`` + ``t_reduction``), ``t_synthesis`` [s], ``scenarios`` (the final set, as
-        4-vectors, or None).
+        4-vectors, or None). A :data:`NUMERICAL_FAILURES` raised inside (including a bad ``h``) makes the record
+        failed, with ``traceback``.
+
+    Raises
+    ------
+    Exception
+        Any other error (TypeError, NameError, AttributeError, KeyError, ...: a programming error), with its traceback.
     """
     from threadpoolctl import threadpool_limits
 
@@ -155,7 +168,9 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
         out["status"] = "ok" if res.success else f"failed: {res.message}"
         if not res.success:
             out["J_c"] = np.inf
-    except Exception as exc:  # a failed particle is penalised and logged, never fatal
+    except NUMERICAL_FAILURES as exc:  # a failed particle is penalised and logged; a programming error stops the run
+        if isinstance(exc, NOT_NUMERICAL):
+            raise
         out["status"] = f"failed: {type(exc).__name__}: {exc}"
         out["traceback"] = traceback.format_exc(limit=3)
     out["t_total"] = time.perf_counter() - t0
@@ -181,12 +196,15 @@ def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:
 
 def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float = M0_PAPER) -> dict[str, Any]:
     """The record of a particle whose evaluation never returned (it killed every worker that ran it): failed, with its
-    reason, and penalised like any failed synthesis (``f = m(h)/m0 + 10``)."""
+    reason, and penalised like any failed synthesis (``f = m(h)/m0 + 10``).
+
+    Raises
+    ------
+    ValueError
+        If ``h`` is not a section side (the swarm's particles always are: a bad one is a programming error).
+    """
     out = _new_record(h)
-    try:
-        out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), params or spacecraft.load_parameters())
-    except ValueError:
-        pass
+    out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), params or spacecraft.load_parameters())
     out["status"] = f"failed: {reason}"
     return _with_objective(out, m0)
 
@@ -268,14 +286,15 @@ def close_client(client) -> None:
 
 def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
                    params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
-                   retries: int = 2, synthesis_options: dict | None = None,
+                   synthesis_options: dict | None = None,
                    scenarios0: Sequence[Sequence[float]] | None = None, partial: str | Path | None = None,
                    partial_key: dict | None = None) -> list[dict]:
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
 
-    A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default;
-    ``retries`` counts evaluations that raise, which :func:`evaluate_particle` never does); a particle whose evaluation
-    ends its worker every time, run again alone, is a failed particle (:func:`lost_evaluation`) and the run goes on.
+    A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default); a
+    particle whose evaluation ends its worker every time, run again alone, is a failed particle (:func:`lost_evaluation`)
+    and the run goes on. An evaluation that raises (a programming error, see :func:`evaluate_particle`) is not retried:
+    it stops the batch with its traceback, after the finished evaluations are saved.
     The results do not depend on the number of workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
     a bound of the range) share one evaluation: with the same warm start the result is the same.
     ``fail_particles`` injects failures (tests).
@@ -312,13 +331,13 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     else:
         from dask.distributed import KilledWorker
 
-        futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, retries=retries, **kw): (h, fail)
+        futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw): (h, fail)
                    for h, fail in todo}
         lost = []
         for fut in _as_finished(client, futures):
             try:
                 finished(futures[fut], fut.result())
-            except KilledWorker:  # (evaluate_particle never raises) its workers died: this particle's doing, or another's
+            except KilledWorker:  # its workers died: this particle's doing, or another's
                 lost.append(futures[fut])
         # Dask blames every task a dying worker held, so a particle that kills its worker takes the others queued there
         # with it: each lost particle runs again alone, and only one that still ends its worker is a failed particle

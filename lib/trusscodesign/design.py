@@ -367,11 +367,11 @@ def stored_design(source: str | int = "auto", results_dir: str = "data/results",
     if name in ("auto", "07"):
         try:
             stored07 = results.load_results("07_pso_codesign", results_dir)
-            best = stored07["results"]["optimum"]
-        except (FileNotFoundError, KeyError):
+        except FileNotFoundError:  # "auto" without notebook 07's results: notebook 06's design
             if name == "07":
                 raise
         else:
+            best = _field(stored07, ("results", "optimum"), results.resolve(results_dir, create=False) / "07_pso_codesign.json")
             _check_inputs(stored07, "notebook 07's optimum", "07")
             if isinstance(best, dict) and best.get("status", "ok") != "ok":  # files before 2026-12-03 hold no status
                 raise ValueError(f"notebook 07's optimum is not a valid design ({best['status']}): rerun notebook 07")
@@ -381,13 +381,23 @@ def stored_design(source: str | int = "auto", results_dir: str = "data/results",
         raise ValueError(f"h_fallback must be a finite section side [m], got {h_fallback!r}")
     stored06 = results.load_results("06_robust_synthesis", results_dir)
     _check_inputs(stored06, "notebook 06's designs", "06")
-    stored = stored06["results"]["designs"]
+    stored = _field(stored06, ("results", "designs"), results.resolve(results_dir, create=False) / "06_robust_synthesis.json")
     key = f"{100 * h_fallback:.3f}"
     if key not in stored or abs(float(key) - 100 * h_fallback) > 1e-9:  # the keys hold h to 1e-5 cm: another h is not it
         raise ValueError(f"notebook 06 stored no design at h = {h_fallback} m (it has {sorted(stored)} cm): rerun it with this h")
     if stored[key].get("success") is False:
         raise ValueError(f"notebook 06's design at {key} cm failed its synthesis ({stored[key].get('message')}): not a design to analyse")
     return "06", *_checked_design(float(h_fallback), stored[key].get("gain"), f"notebook 06's design at {key} cm")
+
+
+def _field(payload: dict, keys: tuple[str, ...], path: object) -> Any:
+    """``payload[keys[0]][keys[1]]...``, or a ValueError naming the file and the missing field (a malformed file)."""
+    value: Any = payload
+    for depth, key in enumerate(keys):
+        if not isinstance(value, dict) or key not in value:
+            raise ValueError(f"{path} is malformed: it has no field {'.'.join(keys[:depth + 1])!r}: rerun the notebook that writes it")
+        value = value[key]
+    return value
 
 
 def _check_inputs(payload: dict, what: str, notebook: str) -> None:

@@ -601,6 +601,42 @@ def test_particle_with_jc_at_the_limit_is_ok_and_above_is_penalised(monkeypatch)
     assert r["status"] == "penalty: J_c > 2" and r["f"] == pytest.approx(m / codesign.M0_PAPER + 10)
 
 
+@pytest.mark.parametrize("error", [np.linalg.LinAlgError("singular matrix"), ZeroDivisionError("x"), RuntimeError("no convergence")])
+def test_a_numerical_failure_is_a_penalised_particle(monkeypatch, error):
+    from trusscodesign import design, spacecraft
+
+    def fails(h, params=None):
+        raise error
+
+    monkeypatch.setattr(design, "models_at", fails)
+    r = codesign.evaluate_particle(0.02)
+    assert r["status"].startswith(f"failed: {type(error).__name__}") and "traceback" in r
+    assert r["f"] == pytest.approx(spacecraft.truss_mass(0.02) / codesign.M0_PAPER + 10)
+
+
+@pytest.mark.parametrize("error", [TypeError("bad call"), NameError("x"), AttributeError("x"), KeyError("x"), NotImplementedError("x")])
+def test_a_programming_error_stops_the_evaluation_with_its_traceback(monkeypatch, error):
+    """Only numerics are penalised: a TypeError and the like raise, so a bug does not show as failed particles."""
+    from trusscodesign import design
+
+    def broken(h, params=None):
+        raise error
+
+    monkeypatch.setattr(design, "models_at", broken)
+    with pytest.raises(type(error)):
+        codesign.evaluate_particle(0.02)
+
+
+def test_a_lost_evaluation_is_penalised_as_documented_and_a_bad_h_is_an_error():
+    from trusscodesign import spacecraft
+
+    r = codesign.lost_evaluation(0.02, "killed its worker")
+    assert r["status"] == "failed: killed its worker"
+    assert r["f"] == pytest.approx(spacecraft.truss_mass(0.02) / codesign.M0_PAPER + 10)  # the documented penalty, finite
+    with pytest.raises(ValueError, match="h"):
+        codesign.lost_evaluation(-0.02, "killed its worker")
+
+
 def test_warm_start_is_the_gain_of_the_iterations_best_particle(monkeypatch):
     """Step 3: the synthesis is warm-started from the previous iteration's best particle (lowest f^n), not any other."""
     starts = []
