@@ -18,7 +18,8 @@ import numpy as np
 from . import __version__
 from .paths import resolve
 
-__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_json", "run_lock", "read_keyed", "normalise_key", "save_results", "load_results"]
+__all__ = ["to_jsonable", "from_jsonable", "write_json", "read_json", "run_lock", "read_keyed", "normalise_key", "save_results", "load_results",
+           "moved_numbers", "load_reference"]
 
 
 def to_jsonable(value: Any) -> Any:
@@ -198,3 +199,69 @@ def load_results(name: str, results_dir: str | Path = "data/results") -> dict[st
     if not path.exists():
         raise FileNotFoundError(f"no results file {path}: run notebook {name} first")
     return from_jsonable(read_json(path))
+
+
+def moved_numbers(what: str, now: dict[str, float], stored: dict[str, float], tolerance: dict[str, tuple[str, float]],
+                  stored_inputs: dict | None = None, inputs: dict | None = None) -> list[str]:
+    """The numbers of a rerun that moved from the stored ones beyond their tolerance, each as a sentence naming it.
+
+    Parameters
+    ----------
+    what : str
+        What the numbers are, e.g. ``"notebook 06b, paper_calibrated at h = 2.139 cm"`` (starts each sentence).
+    now, stored : dict
+        The recomputed and the stored numbers, by name (the names of ``tolerance``); a non-finite value (an unstable
+        loop) matches only itself.
+    tolerance : dict
+        Per name, ``("rel", r)`` (``|now / stored - 1| <= r``) or ``("abs", a)`` (``|now - stored| <= a``, in the
+        number's unit).
+    stored_inputs, inputs : dict, optional
+        The inputs keys of the stored run and of the rerun (:func:`trusscodesign.spacecraft.inputs_key`): when they
+        differ, each sentence says so (the stored results are then to be regenerated, or the inputs restored).
+
+    Returns
+    -------
+    list of str
+        Empty when every number is within its tolerance (``assert not moved, "\\n".join(moved)`` in a notebook).
+    """
+    if set(tolerance) - set(now) or set(tolerance) - set(stored):
+        raise KeyError(f"{what}: no value for {sorted((set(tolerance) - set(now)) | (set(tolerance) - set(stored)))} to compare")
+    changed = "" if stored_inputs is None or inputs is None or stored_inputs == inputs else (
+        " (the inputs differ from the stored run's: "
+        + ", ".join(k for k in sorted(set(inputs) | set(stored_inputs)) if inputs.get(k) != stored_inputs.get(k)) + ")")
+    out = []
+    for name, (kind, tol) in tolerance.items():
+        a, b = float(now[name]), float(stored[name])
+        if not (np.isfinite(a) and np.isfinite(b)):
+            off, ok = ("an infinite norm is an unstable loop", a == b)
+        elif kind == "rel":
+            off, ok = (f"{100 * (a / b - 1):+.3g} %, tolerance {100 * tol:.3g} %", abs(a / b - 1) <= tol)
+        elif kind == "abs":
+            off, ok = (f"{a - b:+.3g}, tolerance {tol:.3g}", abs(a - b) <= tol)
+        else:
+            raise ValueError(f"tolerance kind of {name!r} must be 'rel' or 'abs', got {kind!r}")
+        if not ok:
+            out.append(f"{what}: {name} moved: {a:.6g} now, {b:.6g} stored ({off}){changed}")
+    return out
+
+
+def load_reference(name: str, reference_dir: str | Path | None) -> dict[str, Any] | None:
+    """The stored results of notebook ``name`` that a rerun's headline numbers are compared with (:func:`moved_numbers`),
+    read before any long work; None without ``reference_dir``.
+
+    Raises
+    ------
+    TypeError
+        If ``reference_dir`` is neither None nor a folder name.
+    FileNotFoundError
+        If the folder holds no ``<name>.json``.
+    """
+    if reference_dir is None:
+        return None
+    if not isinstance(reference_dir, (str, Path)) or not str(reference_dir):
+        raise TypeError(f"reference_dir must be a folder of stored results, e.g. 'data/results', or None, got {reference_dir!r}")
+    path = resolve(reference_dir, create=False) / f"{name}.json"
+    if not path.is_file():
+        raise FileNotFoundError(f"reference_dir = {str(reference_dir)!r}: no stored results {path} to compare this run with "
+                                "(None: no comparison)")
+    return load_results(name, reference_dir)

@@ -75,6 +75,31 @@ def test_read_keyed_keys_arrays_exactly(tmp_path: pathlib.Path) -> None:
         assert results.read_keyed(path, {"a": b})[0] is None  # another array: not reused
 
 
+def test_moved_numbers_name_each_number_beyond_its_tolerance() -> None:
+    tol = {"J_c": ("rel", 1e-3), "theta": ("abs", 0.5)}
+    stored = {"J_c": 0.91, "theta": 100.6}
+    assert results.moved_numbers("case", {"J_c": 0.9109, "theta": 101.0}, stored, tol) == []
+    moved = results.moved_numbers("nb 06b, preset", {"J_c": 0.95, "theta": 69.4}, stored, tol)
+    assert len(moved) == 2 and moved[0].startswith("nb 06b, preset: J_c moved: 0.95 now, 0.91 stored (+4.4 %")
+    assert "theta moved: 69.4 now, 100.6 stored (-31.2, tolerance 0.5)" in moved[1]
+    # an unstable loop (infinite norm) matches only itself; differing inputs are said
+    assert results.moved_numbers("c", {"J_c": np.inf, "theta": 1.0}, {"J_c": np.inf, "theta": 1.0}, tol) == []
+    moved = results.moved_numbers("c", {"J_c": np.inf, "theta": 1.0}, {"J_c": 0.9, "theta": 1.0}, tol, {"p": 1, "m": 2}, {"p": 3, "m": 2})
+    assert moved == ["c: J_c moved: inf now, 0.9 stored (an infinite norm is an unstable loop) (the inputs differ from the stored run's: p)"]
+    with pytest.raises(KeyError, match="theta"):
+        results.moved_numbers("c", {"J_c": 1.0}, stored, tol)
+
+
+def test_load_reference_checks_the_folder_before_any_work(tmp_path: pathlib.Path) -> None:
+    assert results.load_reference("06_robust_synthesis", None) is None
+    with pytest.raises(TypeError, match="reference_dir must be a folder"):
+        results.load_reference("06_robust_synthesis", 3)
+    with pytest.raises(FileNotFoundError, match=r"reference_dir = .*no stored results .*06_robust_synthesis\.json"):
+        results.load_reference("06_robust_synthesis", str(tmp_path))
+    results.save_results("06_robust_synthesis", {"designs": {}}, tmp_path, inputs=INPUTS)
+    assert results.load_reference("06_robust_synthesis", str(tmp_path))["inputs"] == INPUTS
+
+
 @pytest.mark.parametrize("h", [0.04, float("nan"), 2.139])
 def test_truss_shift_check_refuses_h_outside_the_range(h: float) -> None:
     with pytest.raises(ValueError, match="h must be"):
@@ -119,6 +144,21 @@ def test_stored_design_07_refuses_a_broken_optimum(tmp_path: pathlib.Path, optim
     for source in ("07", "auto"):
         with pytest.raises(ValueError, match="optimum"):
             design.stored_design(source, str(tmp_path))
+
+
+def test_stored_design_auto_refuses_a_malformed_07_file_instead_of_falling_back(tmp_path: pathlib.Path) -> None:
+    """A notebook 07 file without its optimum is an error naming the file and the field, not a quiet switch to 06."""
+    _store(tmp_path)
+    results.save_results("07_pso_codesign", {"best": {}}, tmp_path, inputs=INPUTS)
+    for source in ("07", "auto"):
+        with pytest.raises(ValueError, match=r"07_pso_codesign\.json is malformed.*'results\.optimum'"):
+            design.stored_design(source, str(tmp_path))
+
+
+def test_stored_design_06_names_a_malformed_file(tmp_path: pathlib.Path) -> None:
+    results.save_results("06_robust_synthesis", {"design": {}}, tmp_path, inputs=INPUTS)
+    with pytest.raises(ValueError, match=r"06_robust_synthesis\.json is malformed.*'results\.designs'"):
+        design.stored_design("06", str(tmp_path))
 
 
 def test_stored_design_06_refuses_a_failed_synthesis(tmp_path: pathlib.Path) -> None:
