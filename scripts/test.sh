@@ -11,7 +11,8 @@
 # the second runs the other unit tests and the other notebooks. pytest runs the files of one process in the order given on
 # its command line, each notebook's cells in order in one kernel: nothing here rests on how a plugin distributes
 # tests. Extra arguments go to both processes (e.g. -x, or -k NAME: a process that then selects no test counts as
-# passed). The last line sums up both runs.
+# passed). Every kernel logs the asserts it runs; once both are done, tests/smoke_asserts_ran.py fails for a notebook one
+# of whose asserts never ran (scripts/smoke_asserts.py). The last line sums up the runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3}"
@@ -25,6 +26,11 @@ export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
 rm -rf build/smoke build/test-logs && mkdir -p build/smoke build/test-logs
+# every kernel logs the asserts it runs (scripts/smoke_asserts.py); the last step names those the smoke runs left out
+export SMOKE_ASSERT_LOG="$PWD/build/smoke/asserts" IPYTHONDIR="$PWD/build/smoke/ipython"
+mkdir -p "$IPYTHONDIR/profile_default/startup"
+printf 'import os, sys\nif os.environ.get("SMOKE_ASSERT_LOG"):\n    sys.path.insert(0, %s)\n    import smoke_asserts\n    smoke_asserts.install()\n' \
+  "'$PWD/scripts'" > "$IPYTHONDIR/profile_default/startup/00-smoke-asserts.py"
 chain=() others=()
 # byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
 export LC_COLLATE=C
@@ -70,5 +76,9 @@ else
   fi
   [ "$chain_rc" = 0 ] || [ "$rc" != 0 ] || rc=$chain_rc
 fi
+# after every notebook: did each of their asserts run under the smoke parameters?
+"${pytest[@]}" --junitxml=build/test-logs/asserts.xml tests/smoke_asserts_ran.py "$@" && arc=0 || arc=$?
+arc="$(status "$arc")"; reports+=("asserts=build/test-logs/asserts.xml=$arc")
+[ "$arc" = 0 ] || [ "$rc" != 0 ] || rc=$arc
 "$PY" scripts/test_summary.py "${reports[@]}" || true
 exit "$rc"

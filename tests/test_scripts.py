@@ -6,6 +6,8 @@ import os
 import subprocess
 from pathlib import Path
 
+from _scripts import load_script
+
 ROOT = Path(__file__).parents[1]
 
 
@@ -119,8 +121,10 @@ def test_the_test_command_runs_notebooks_07_and_08_alone_and_in_order(tmp_path: 
     is asked for."""
     notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
     calls = _test_sh_calls(tmp_path, "2")  # the two processes run side by side: their lines come in either order
-    assert len(calls) == 2
-    chain, main = sorted(calls, key=lambda call: "tests" in call)
+    assert len(calls) == 3
+    *both, asserts = calls  # once both are done: did every notebook assert run under the smoke parameters?
+    assert "tests/smoke_asserts_ran.py" in asserts and asserts[-1] == "-x"
+    chain, main = sorted(both, key=lambda call: "tests" in call)
     assert [Path(a).stem for a in chain if a.endswith(".ipynb")] == ["07_pso_codesign", "08_worst_case_mu"]
     assert [Path(a).stem for a in main if a.endswith(".ipynb")] == [n for n in notebooks if not n.startswith(("07_", "08_"))]
     assert "tests" in main and "tests" not in chain
@@ -131,7 +135,8 @@ def test_the_test_command_runs_notebooks_07_and_08_alone_and_in_order(tmp_path: 
 
 
 def test_the_test_command_in_one_process_keeps_the_chain_in_order(tmp_path: Path) -> None:
-    (only,) = _test_sh_calls(tmp_path, "1")
+    only, asserts = _test_sh_calls(tmp_path, "1")
+    assert "tests/smoke_asserts_ran.py" in asserts
     stems = [Path(a).stem for a in only if a.endswith(".ipynb")]
     assert stems.index("08_worst_case_mu") == stems.index("07_pso_codesign") + 1
 
@@ -149,6 +154,35 @@ def test_pytest_runs_notebooks_in_the_order_given(tmp_path: Path) -> None:
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     assert "2 passed" in run.stdout
+
+
+def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
+    """scripts/smoke_asserts.py end to end: a notebook run by nbval with the startup file of scripts/test.sh logs the
+    asserts that ran; an assert behind a branch the parameters left out, one in an empty loop and one in a function never
+    called are named, with their cell and line; magics and moved lines do not confuse the cell's identity."""
+    import nbformat
+    import sys
+
+    smoke_asserts = load_script("smoke_asserts")
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("check = False\nshifts = []"),
+                nbformat.v4.new_code_cell("%time x = 1\nassert x == 1\nif check:\n    assert x > 0, 'skipped'\nfor s in shifts:\n    assert s"),
+                nbformat.v4.new_code_cell("def f():\n    assert True\nassert [1 for _ in range(2)]")]
+    path = tmp_path / "nb.ipynb"
+    nbformat.write(nb, path)
+    log, ipython = tmp_path / "log", tmp_path / "ipython"
+    (ipython / "profile_default" / "startup").mkdir(parents=True)
+    (ipython / "profile_default" / "startup" / "00.py").write_text(
+        f"import sys\nsys.path.insert(0, {str(ROOT / 'scripts')!r})\nimport smoke_asserts\nsmoke_asserts.install()\n")
+    env = dict(os.environ, SMOKE_ASSERT_LOG=str(log), IPYTHONDIR=str(ipython))
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--nbval-lax", "--nbval-current-env", str(path)],
+                         cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    listed = smoke_asserts.notebook_asserts(path)
+    assert [(a["cell_number"], a["line"]) for a in listed] == [(1, 2), (1, 4), (1, 6), (2, 2), (2, 3)]
+    missing = smoke_asserts.not_run(log, [path])["nb.ipynb"]
+    assert [(a["cell_number"], a["line"], a["text"]) for a in missing] == [(1, 4, "x > 0"), (1, 6, "s"), (2, 2, "True")]
+    assert smoke_asserts.main([str(log), str(path)]) == 1
 
 
 def _summary(tmp_path: Path, *runs: str) -> subprocess.CompletedProcess:
@@ -223,7 +257,6 @@ def test_an_unknown_parameter_name_is_refused_with_the_allowed_ones(tmp_path: Pa
 
 def test_the_smoke_parameters_are_the_notebooks_own() -> None:
     """tests/smoke/ is a parameter folder like any other: every file is named after a notebook, every name declared."""
-    from _scripts import load_script
 
     module = load_script("check_params")
     assert module.problems(ROOT / "tests" / "smoke", module.declared()) == []
