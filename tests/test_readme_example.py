@@ -46,4 +46,7 @@ def test_readme_example_runs_and_its_numbers_are_right() -> None:
         norm, _, ok = synthesis.exact_norms(plant, new.gain)[group]
         assert ok and abs(norm / new.worst.value[group] - 1) < 1e-4, (group, norm, new.worst.value[group])
     assert new.z_c >= new.worst.value["effort"] and new.j_c >= new.worst.value["rpe"]
-    assert not new.success or new.z_c < ns["settings"].gamma_u
+    # the example's design is a valid one: converged, within the effort bound, and its J_c is what the README prints
+    assert new.success, new.message
+    assert new.z_c < ns["settings"].gamma_u
+    assert f"h = 2.2 cm: J_c {new.j_c:.5f}, Z_c {new.z_c:.3f}, valid True" in printed
