@@ -5,7 +5,8 @@ paper's numbers come from the same files where the notebooks stored them, else f
 paper's section). ``tests/test_readme_summary.py`` fails when the README's table is not this script's output, so the
 table cannot drift from the stored results.
 
-Usage: ``python scripts/summary.py [--root DIR]`` (default: the project folder).
+Usage: ``python scripts/summary.py [--root DIR] [--glance]`` (default: the project folder; ``--glance``: the
+at-a-glance paragraph, whose verdicts follow from the numbers, instead of the table).
 """
 
 from __future__ import annotations
@@ -115,6 +116,73 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
     ]
 
 
+# When a number of this toolkit counts as the paper's (the words of the glance paragraph and of docs/results.md follow
+# these, not the other way): relative tolerances, the critical panel angle's [deg] and Z_c's (absolute, against the
+# paper's mu upper bound of the effort, 0.900)
+MATCH_REL = {"J_c": 0.15, "critical_omega": 0.05, "mass": 0.01, "cube_error": 0.10}
+MATCH_ANGLE_DEG = 5.0
+MATCH_Z_C = 0.05
+
+
+def _close(ours: float, paper: float, what: str) -> bool:
+    return abs(ours / paper - 1) <= MATCH_REL[what]
+
+
+def calibration_verdicts(row: dict) -> dict[str, bool]:
+    """Whether each of the paper's outcomes at 2.139 cm is met by a residuals row of notebook 06b: ``J_c``, ``the critical
+    frequency``, ``the critical angle``, ``Z_c`` (the tolerances :data:`MATCH_REL`, :data:`MATCH_ANGLE_DEG`, :data:`MATCH_Z_C`)."""
+    return {"J_c": abs(row["J_c_residual"]) <= MATCH_REL["J_c"],
+            "the critical frequency": abs(row["omega_residual"]) <= MATCH_REL["critical_omega"],
+            "the critical angle": abs(row["theta_residual_deg"]) <= MATCH_ANGLE_DEG,
+            "Z_c": abs(row["Z_c_residual"]) <= MATCH_Z_C}
+
+
+def listing(items: list[str], conjunction: str = "and") -> str:
+    """``a``, ``a and b``, ``a, b and c`` (or another conjunction)."""
+    return f" {conjunction} ".join([", ".join(items[:-1]), items[-1]] if len(items) > 1 else items)
+
+
+def glance(root: Path) -> str:
+    """The README's "at a glance" paragraph: what is reproduced and what is not, each verdict from the stored numbers
+    (:data:`MATCH_REL`, :data:`MATCH_ANGLE_DEG`), each number as the summary table prints it."""
+    r3, r4, r6, r6b = (_load(root, n) for n in ("03_cube_vs_nastran", "04_t_truss_spacecraft", "06_robust_synthesis",
+                                                 "06b_calibration_tolerance"))
+    f7 = _load(root, "07_pso_codesign", whole=True)
+    r7 = f7["results"]
+    err, d6, p6, p7, opt = r3["mean_relative_error_vs_nastran"], r6["designs"]["2.139"], r6["paper"], r7["paper"], r7["optimum"]
+    structure = {"the cube against Nastran": _close(err["this_sdt_settings"], err["paper_sdt"], "cube_error"),
+                 f"the open-loop order {r4['orders']['G']} with its {r4['near_zero_poles']} slow poles":
+                     (r4["orders"]["G"], r4["near_zero_poles"]) == (PAPER_ORDER_G, PAPER_SLOW_POLES),
+                 "the truss mass": _close(d6["truss_mass_kg"], p7["mass_kg"], "mass") and _close(r7["m0_from_dc_kg"], p7["m0_kg"], "mass")}
+    met = [k for k, v in structure.items() if v]
+    missed = [k for k, v in structure.items() if not v]
+    text = ("The structural modelling is reproduced (" + ", ".join(met) + ")." if not missed else
+            "The structural modelling is reproduced only in part (" + ", ".join(met or ["nothing"]) + "; not: " + ", ".join(missed) + ").")
+    loop_ok = _close(d6["J_c"], p6["J_c"], "J_c")
+    valid = [g["J_c"] for g in r7["grid"] if g["status"] == "ok"]
+    at_bound = abs(opt["h"] - f7["parameters"]["h_min"]) < 1e-9
+    text += (f" The closed loop {'is' if loop_ok else 'is not'}: with the paper's stated values the robust design at "
+             f"h = {p6['h_cm']} cm reaches J_c = {d6['J_c']:.4f}, against the paper's {p6['J_c']}")
+    text += f", and J_c stays within {min(valid):.4f}-{max(valid):.4f} over the co-design's grid of h"
+    text += (f", so the co-design's optimum is the lightest truss allowed, h = {100 * opt['h']:.3f} cm, not the paper's interior one."
+             if at_bound else f"; the co-design's optimum is h = {100 * opt['h']:.3f} cm (paper: {p7['h_cm']} cm).")
+    cal, pre = r6b["residuals"][1], r6b["preset"]
+    u_max = next(x for x in pre["departures"] if x["input"] == "u_max")
+    verdicts = calibration_verdicts(cal)
+    text += (" The calibrated preset (notebook 06b) brings back " + (listing([k for k in verdicts if verdicts[k]]) or "none of the outcomes")
+             + f" (J_c = {cal['J_c']:.4f} at {cal['critical_omega']:.1f} rad/s)"
+             + "".join(f", not {k}" for k in verdicts if not verdicts[k])
+             + f", with a PMA authority of {u_max['calibrated']:g} N (not {u_max['stated']:g} N).")
+    return "**At a glance.** " + text + " Why, and every number: [docs/results.md](docs/results.md)."
+
+
+def wrap(text: str, width: int = 120) -> str:
+    """``text`` broken into lines of at most ``width`` characters, at spaces (as the README is written)."""
+    import textwrap
+
+    return textwrap.fill(text, width, break_long_words=False, break_on_hyphens=False)
+
+
 def markdown(root: Path) -> str:
     """The summary table as Markdown (no trailing newline)."""
     lines = ["| quantity | paper | this toolkit | notebook |", "|---|---|---|---|"]
@@ -125,7 +193,9 @@ def markdown(root: Path) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--root", type=Path, default=Path(__file__).resolve().parents[1], help="project folder")
-    print(markdown(parser.parse_args().root))
+    parser.add_argument("--glance", action="store_true", help="print the README's at-a-glance paragraph instead of the table")
+    args = parser.parse_args()
+    print(wrap(glance(args.root)) if args.glance else markdown(args.root))
 
 
 if __name__ == "__main__":

@@ -51,3 +51,19 @@ def test_results_page_follows_the_results_files(tmp_path: Path) -> None:
     (root / "data" / "results" / "08_worst_case_mu.json").unlink()
     with pytest.raises(FileNotFoundError, match="run notebook 08"):
         generator.page(root)
+
+
+def test_the_calibration_verdicts_follow_the_residuals(tmp_path: Path) -> None:
+    """"Not met" is said only where a residual exceeds its tolerance: an edited residual changes the sentence."""
+    generator = _generator()
+    now = generator.page(ROOT)
+    assert "not met: the critical angle and Z_c." in now and "**Calibrated, J_c and the critical frequency come back, not the critical angle or Z_c.**" in now
+    root = _results_copy(tmp_path)
+    path = root / "data" / "results" / "06b_calibration_tolerance.json"
+    stored = json.loads(path.read_text())
+    stored["results"]["residuals"][1].update(theta_residual_deg=-2.0, Z_c_residual=0.01, omega_residual=0.2)
+    path.write_text(json.dumps(stored))
+    edited = generator.page(root)
+    assert "J_c, the critical angle and Z_c; not met: the critical frequency." in edited
+    assert "**Calibrated, J_c, the critical angle and Z_c come back, not the critical frequency.**" in edited
+    assert "the frequency match is as fragile" not in edited
