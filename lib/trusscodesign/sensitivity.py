@@ -25,7 +25,7 @@ from . import design, spacecraft
 from .closedloop import LoopSettings
 from .results import read_keyed, run_lock, write_json
 
-__all__ = ["Lever", "levers", "case_inputs", "combined_inputs", "check_cases", "evaluate_case", "study", "open_loop_map"]
+__all__ = ["Lever", "levers", "case_inputs", "combined_inputs", "preset_case", "check_cases", "evaluate_case", "study", "open_loop_map"]
 
 Case = tuple[str, Any] | Mapping[str, Any]  # one lever at one value, or {lever name: value} for several
 
@@ -169,6 +169,34 @@ def combined_inputs(changes: Mapping[str, Any], params: dict, settings: LoopSett
         except (TypeError, ValueError) as err:
             raise ValueError(f"lever {name} at {value!r} ({table[name].label}): {err}") from None
     return p, s
+
+
+def preset_case(name: str, params: dict | None = None) -> dict[str, Any]:
+    """The case ``{lever name: value}`` that sets what the preset ``name`` changes from ``params`` (default: the
+    package's stated values): each entry of its ``model``, ``closed_loop`` and ``choices`` that differs from the
+    lever's default, by the lever that sets that input and whose ``fixed`` inputs the preset names (the damping model
+    picks ``truss_damping`` or ``truss_damping_stiffness``). :func:`combined_inputs` of the case gives the preset's inputs.
+
+    Raises
+    ------
+    ValueError
+        If an entry of the preset is set by no lever (no case reproduces the preset).
+    """
+    raw = spacecraft.load_preset(name)
+    model = {k: v for k, v in raw.get("model", {}).items() if not k.startswith("_")}
+    entries = {**model, **{k: v for section in ("closed_loop", "choices") for k, v in raw.get(section, {}).items()
+                           if not k.startswith("_")}}
+    case: dict[str, Any] = {}
+    used: set[str] = set()
+    for lever in levers(params).values():
+        target = lever.setting or lever.model
+        if target in entries and all(model.get(k) == v for k, v in lever.fixed.items()):
+            used |= {target, *lever.fixed}
+            if entries[target] != lever.default or lever.fixed:
+                case[lever.name] = entries[target]
+    if set(entries) - used:
+        raise ValueError(f"preset {name!r}: no lever sets its entries {sorted(set(entries) - used)}")
+    return case
 
 
 def _changes(case: Case) -> dict[str, Any]:
