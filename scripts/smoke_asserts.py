@@ -2,8 +2,9 @@
 
 Smoke parameters may shrink a notebook's loops, never switch a check off. This script makes that checkable:
 
-- in each kernel of the test run, an IPython AST transformer (:func:`install`, loaded by the startup file that
-  ``scripts/test.sh`` writes) follows every ``assert`` statement of a cell with a call that logs the assert as run;
+- in each kernel of the test run, an IPython AST transformer (:func:`install`, loaded by the startup file
+  :data:`STARTUP` that ``scripts/test.sh`` writes with ``--startup``) follows every ``assert`` statement of a cell with a
+  call that logs the assert as run;
 - after the notebooks, ``python scripts/smoke_asserts.py LOG_DIR NOTEBOOK...`` lists every assert of each notebook and
   names those that never ran (a branch or a loop that the smoke parameters left out); it exits 1 if there is one.
 
@@ -71,10 +72,28 @@ class _Transformer(ast.NodeTransformer):
         return instrument(node) if isinstance(node, ast.Module) else node
 
 
+STARTUP = f"""# written by scripts/test.sh: log the asserts this kernel runs (scripts/smoke_asserts.py)
+import importlib.util, os
+if os.environ.get("{LOG_ENV}"):
+    _spec = importlib.util.spec_from_file_location("smoke_asserts", os.environ["SMOKE_ASSERT_SCRIPT"])
+    _module = importlib.util.module_from_spec(_spec)
+    _spec.loader.exec_module(_module)
+    _module.install()
+"""  # an IPython startup file; SMOKE_ASSERT_SCRIPT is this file's path (nothing is put on the kernel's sys.path)
+
+
 def install(log_dir: str | os.PathLike | None = None) -> None:
-    """Log every assert that runs in this IPython kernel to ``log_dir/<pid>.jsonl`` (default: ``$SMOKE_ASSERT_LOG``)."""
+    """Log every assert that runs in this IPython kernel to ``log_dir/<pid>.jsonl`` (default: ``$SMOKE_ASSERT_LOG``).
+
+    Raises
+    ------
+    RuntimeError
+        Under ``python -O`` (asserts compiled away: the log would record checks that never ran).
+    """
     from IPython import get_ipython
 
+    if sys.flags.optimize:
+        raise RuntimeError("asserts are compiled away (python -O or PYTHONOPTIMIZE): the notebooks' checks would not run")
     ip = get_ipython()
     folder = Path(log_dir or os.environ[LOG_ENV])
     folder.mkdir(parents=True, exist_ok=True)
@@ -92,15 +111,27 @@ def install(log_dir: str | os.PathLike | None = None) -> None:
 
 
 def notebook_asserts(path: Path) -> list[dict[str, Any]]:
-    """Every assert of a notebook: ``cell`` (fingerprint), ``k``, ``cell_number`` (0-based index), ``line``, ``text``."""
-    out = []
+    """Every assert of a notebook: ``cell`` (fingerprint), ``k``, ``cell_number`` (0-based index), ``line``, ``text``.
+
+    Raises
+    ------
+    ValueError
+        For a code cell that does not parse, an assert inside a cell magic (the kernel would log it under another
+        cell), or two cells with asserts and the same code (one's run would count for the other).
+    """
+    out: list[dict[str, Any]] = []
     for number, cell in enumerate(json.loads(path.read_text())["cells"]):
         if cell["cell_type"] != "code":
             continue
-        tree = cell_tree("".join(cell["source"]))
+        source = "".join(cell["source"])
+        if source.lstrip().startswith("%%") and "assert" in source:
+            raise ValueError(f"{path.name}, cell {number}: an assert inside a cell magic cannot be followed; move it out")
+        tree = cell_tree(source)
         if tree is None:
-            continue
+            raise ValueError(f"{path.name}, cell {number}: the cell does not parse")
         fp = fingerprint(tree)
+        if asserts_of(tree) and any(a["cell"] == fp for a in out):
+            raise ValueError(f"{path.name}, cell {number}: the same code as an earlier cell with asserts; make them differ")
         out += [{"cell": fp, "k": k, "cell_number": number, "line": node.lineno, "text": ast.unparse(node.test)[:100]}
                 for k, node in enumerate(asserts_of(tree))]
     return out
@@ -118,6 +149,9 @@ def not_run(log_dir: Path, notebooks: list[Path]) -> dict[str, list[dict[str, An
 
 
 def main(argv: list[str]) -> int:
+    if argv == ["--startup"]:
+        print(STARTUP, end="")
+        return 0
     if len(argv) < 2:
         print("usage: python scripts/smoke_asserts.py LOG_DIR NOTEBOOK...", file=sys.stderr)
         return 2

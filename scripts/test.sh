@@ -27,10 +27,11 @@ export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_
 export MPLBACKEND=Agg
 rm -rf build/smoke build/test-logs && mkdir -p build/smoke build/test-logs
 # every kernel logs the asserts it runs (scripts/smoke_asserts.py); the last step names those the smoke runs left out
-export SMOKE_ASSERT_LOG="$PWD/build/smoke/asserts" IPYTHONDIR="$PWD/build/smoke/ipython"
+export SMOKE_ASSERT_LOG="$PWD/build/smoke/asserts" SMOKE_ASSERT_SCRIPT="$PWD/scripts/smoke_asserts.py"
+export IPYTHONDIR="$PWD/build/smoke/ipython"
+unset PYTHONOPTIMIZE  # asserts compiled away would be logged as run
 mkdir -p "$IPYTHONDIR/profile_default/startup"
-printf 'import os, sys\nif os.environ.get("SMOKE_ASSERT_LOG"):\n    sys.path.insert(0, %s)\n    import smoke_asserts\n    smoke_asserts.install()\n' \
-  "'$PWD/scripts'" > "$IPYTHONDIR/profile_default/startup/00-smoke-asserts.py"
+"$PY" scripts/smoke_asserts.py --startup > "$IPYTHONDIR/profile_default/startup/00-smoke-asserts.py"
 chain=() others=()
 # byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
 export LC_COLLATE=C

@@ -14,8 +14,9 @@ from pathlib import Path
 from trusscodesign import spacecraft
 
 ROOT = Path(__file__).resolve().parents[1]
-# a swarm and a grid small enough for CI; the README's range, folders and notebook are kept
-SMOKE = "-p n_particles 2 -p n_iterations 1 -p n_grid 2 -p run_preset False -p n_workers 2"
+# a swarm and a grid small enough for CI; the README's range, folders and notebook are kept. A 2 x 1 swarm's best is
+# its first particle, +6.4 % from the 2-point grid's minimum (measured with the notebook's seed): held to 10 %
+SMOKE = "-p n_particles 2 -p n_iterations 1 -p n_grid 2 -p pso_tolerance 0.1 -p run_preset False -p n_workers 2"
 
 
 def _readme_commands() -> list[str]:

@@ -6,6 +6,7 @@ import os
 import subprocess
 from pathlib import Path
 
+import pytest
 from _scripts import load_script
 
 ROOT = Path(__file__).parents[1]
@@ -172,9 +173,9 @@ def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
     nbformat.write(nb, path)
     log, ipython = tmp_path / "log", tmp_path / "ipython"
     (ipython / "profile_default" / "startup").mkdir(parents=True)
-    (ipython / "profile_default" / "startup" / "00.py").write_text(
-        f"import sys\nsys.path.insert(0, {str(ROOT / 'scripts')!r})\nimport smoke_asserts\nsmoke_asserts.install()\n")
-    env = dict(os.environ, SMOKE_ASSERT_LOG=str(log), IPYTHONDIR=str(ipython))
+    (ipython / "profile_default" / "startup" / "00.py").write_text(smoke_asserts.STARTUP)  # as scripts/test.sh writes it
+    env = dict(os.environ, SMOKE_ASSERT_LOG=str(log), SMOKE_ASSERT_SCRIPT=str(ROOT / "scripts" / "smoke_asserts.py"),
+               IPYTHONDIR=str(ipython))
     run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--nbval-lax", "--nbval-current-env", str(path)],
                          cwd=tmp_path, env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
@@ -183,6 +184,13 @@ def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
     missing = smoke_asserts.not_run(log, [path])["nb.ipynb"]
     assert [(a["cell_number"], a["line"], a["text"]) for a in missing] == [(1, 4, "x > 0"), (1, 6, "s"), (2, 2, "True")]
     assert smoke_asserts.main([str(log), str(path)]) == 1
+    # a cell the kernel would log under another identity, or not at all, is refused rather than passed over
+    for bad, message in (("%%time\nassert x == 1", "cell magic"), ("assert (", "does not parse"), (nb.cells[1].source, "same code")):
+        nb.cells.append(nbformat.v4.new_code_cell(bad))
+        nbformat.write(nb, path)
+        with pytest.raises(ValueError, match=f"nb.ipynb, cell 3: .*{message}"):
+            smoke_asserts.notebook_asserts(path)
+        nb.cells = nb.cells[:-1]
 
 
 def _summary(tmp_path: Path, *runs: str) -> subprocess.CompletedProcess:

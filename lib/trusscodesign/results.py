@@ -211,7 +211,7 @@ def moved_numbers(what: str, now: dict[str, float], stored: dict[str, float], to
         What the numbers are, e.g. ``"notebook 06b, paper_calibrated at h = 2.139 cm"`` (starts each sentence).
     now, stored : dict
         The recomputed and the stored numbers, by name (the names of ``tolerance``); a non-finite value (an unstable
-        loop) matches only itself.
+        loop: infinite; a failed evaluation: NaN) matches only itself, and so does a stored 0 with a relative tolerance.
     tolerance : dict
         Per name, ``("rel", r)`` (``|now / stored - 1| <= r``) or ``("abs", a)`` (``|now - stored| <= a``, in the
         number's unit).
@@ -232,8 +232,12 @@ def moved_numbers(what: str, now: dict[str, float], stored: dict[str, float], to
     out = []
     for name, (kind, tol) in tolerance.items():
         a, b = float(now[name]), float(stored[name])
-        if not (np.isfinite(a) and np.isfinite(b)):
+        if np.isnan(a) or np.isnan(b):
+            off, ok = ("not a number", np.isnan(a) and np.isnan(b))
+        elif not (np.isfinite(a) and np.isfinite(b)):
             off, ok = ("an infinite norm is an unstable loop", a == b)
+        elif kind == "rel" and b == 0.0:
+            off, ok = (f"{a:+.3g} from 0, tolerance relative", a == 0.0)
         elif kind == "rel":
             off, ok = (f"{100 * (a / b - 1):+.3g} %, tolerance {100 * tol:.3g} %", abs(a / b - 1) <= tol)
         elif kind == "abs":

@@ -32,7 +32,7 @@ from .reduction import modal_reduction, static_gain
 from .titop import DAMPING_MODELS, Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["MODEL", "load_parameters", "parameters_fingerprint", "inputs_key", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+__all__ = ["MODEL", "load_parameters", "parameters_fingerprint", "inputs_key", "LOOP_CHOICES", "model_inputs", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset", "preset_parameters"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
@@ -93,6 +93,16 @@ def inputs_key(params: dict | None = None) -> dict[str, str]:
     fingerprint (:func:`parameters_fingerprint`, default: the package's parameters) and the model's version
     (:data:`MODEL`); stored with the results (:func:`trusscodesign.results.save_results`' ``inputs``)."""
     return {"spacecraft_parameters": parameters_fingerprint(params), "model": MODEL}
+
+
+LOOP_CHOICES = ("xi_pma", "effort")  # choices that are loop settings (LoopSettings.from_parameters), not model inputs
+
+
+def model_inputs(params: dict) -> dict:
+    """The parameters the open-loop models are built from: all but the loop settings (``closed_loop`` and the choices
+    :data:`LOOP_CHOICES`). Two parameter sets with equal model inputs give the same models."""
+    return {k: v for k, v in params.items() if k != "closed_loop"} | {
+        "choices": {k: v for k, v in params["choices"].items() if k not in LOOP_CHOICES}}
 
 
 def _finite(value: float, name: str, positive: bool = False) -> float:

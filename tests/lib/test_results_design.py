@@ -88,6 +88,9 @@ def test_moved_numbers_name_each_number_beyond_its_tolerance() -> None:
     assert moved == ["c: J_c moved: inf now, 0.9 stored (an infinite norm is an unstable loop) (the inputs differ from the stored run's: p)"]
     with pytest.raises(KeyError, match="theta"):
         results.moved_numbers("c", {"J_c": 1.0}, stored, tol)
+    assert results.moved_numbers("c", {"J_c": 0.0, "theta": np.nan}, {"J_c": 0.0, "theta": np.nan}, tol) == []
+    moved = results.moved_numbers("c", {"J_c": 1e-9, "theta": np.nan}, {"J_c": 0.0, "theta": 1.0}, tol)
+    assert [m.split(" (")[1] for m in moved] == ["+1e-09 from 0, tolerance relative)", "not a number)"]
 
 
 def test_load_reference_checks_the_folder_before_any_work(tmp_path: pathlib.Path) -> None:

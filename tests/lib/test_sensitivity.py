@@ -135,19 +135,13 @@ def test_a_combined_case_is_the_same_as_its_levers_applied_in_turn(params, monke
     assert (rows[1]["lever"], rows[1]["value"], rows[1]["default"]) == ("p_max+eps_max", {"p_max": 1.2, "eps_max": 1e-5}, False)
 
 
-def _model_inputs(p: dict) -> dict:
-    """The parameters the models are built from (the loop settings apart), as notebook 06b compares them."""
-    return {k: v for k, v in p.items() if k != "closed_loop"} | {"choices": {k: v for k, v in p["choices"].items()
-                                                                        if k not in ("xi_pma", "effort")}}
-
-
 @pytest.mark.parametrize("name", ["paper_calibrated", "paper_match"])
 def test_a_presets_case_gives_the_presets_inputs(name):
     stated, want = spacecraft.load_parameters(), spacecraft.preset_parameters(name)
     case = sensitivity.preset_case(name)
     p, s = sensitivity.combined_inputs(case, stated, LoopSettings.from_parameters(stated))
-    assert _model_inputs(p) == _model_inputs(want) and s == LoopSettings.from_parameters(want)
-    assert _model_inputs(p) != _model_inputs(stated) or s != LoopSettings.from_parameters(stated)
+    assert spacecraft.model_inputs(p) == spacecraft.model_inputs(want) and s == LoopSettings.from_parameters(want)
+    assert spacecraft.model_inputs(p) != spacecraft.model_inputs(stated) or s != LoopSettings.from_parameters(stated)
 
 
 def test_a_preset_entry_no_lever_sets_is_refused(monkeypatch):

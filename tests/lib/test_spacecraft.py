@@ -260,3 +260,11 @@ def test_a_preset_sets_the_parameters_it_names_and_nothing_else(tmp_path, monkey
         spacecraft.preset_parameters("bad_model", base)
     with pytest.raises(TypeError, match="truss_damping must be a real number"):  # named, not called an unknown entry
         spacecraft.preset_parameters("bad_value", base)
+
+
+def test_model_inputs_leave_out_the_loop_settings_only():
+    p = spacecraft.load_parameters()
+    loop = spacecraft.with_choices(p) | {"closed_loop": {**p["closed_loop"], "u_max": 1.0},
+                                         "choices": {**p["choices"], "xi_pma": 0.3, "effort": "transmitted"}}
+    assert spacecraft.model_inputs(loop) == spacecraft.model_inputs(p)
+    assert spacecraft.model_inputs(spacecraft.with_choices(p, antenna_node="N17")) != spacecraft.model_inputs(p)
