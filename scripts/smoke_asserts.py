@@ -73,13 +73,17 @@ class _Transformer(ast.NodeTransformer):
 
 
 STARTUP = f"""# written by scripts/test.sh: log the asserts this kernel runs (scripts/smoke_asserts.py)
-import importlib.util, os
-if os.environ.get("{LOG_ENV}"):
-    _spec = importlib.util.spec_from_file_location("smoke_asserts", os.environ["SMOKE_ASSERT_SCRIPT"])
-    _module = importlib.util.module_from_spec(_spec)
-    _spec.loader.exec_module(_module)
-    _module.install()
-"""  # an IPython startup file; SMOKE_ASSERT_SCRIPT is this file's path (nothing is put on the kernel's sys.path)
+def _log_asserts():
+    import importlib.util, os
+    if os.environ.get("{LOG_ENV}"):
+        spec = importlib.util.spec_from_file_location("smoke_asserts", os.environ["SMOKE_ASSERT_SCRIPT"])
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        module.install()
+_log_asserts()
+del _log_asserts
+"""  # an IPython startup file (SMOKE_ASSERT_SCRIPT: this file's path). It leaves no name in the notebook's namespace but
+# the logging call: a notebook that forgets an import must fail in the tests as it does for a user
 
 
 def install(log_dir: str | os.PathLike | None = None) -> None:

@@ -160,7 +160,8 @@ def test_pytest_runs_notebooks_in_the_order_given(tmp_path: Path) -> None:
 def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
     """scripts/smoke_asserts.py end to end: a notebook run by nbval with the startup file of scripts/test.sh logs the
     asserts that ran; an assert behind a branch the parameters left out, one in an empty loop and one in a function never
-    called are named, with their cell and line; magics and moved lines do not confuse the cell's identity."""
+    called are named, with their cell and line; magics do not confuse the cell's identity; the startup file leaves no
+    import in the notebook's namespace."""
     import nbformat
     import sys
 
@@ -168,7 +169,8 @@ def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell("check = False\nshifts = []"),
                 nbformat.v4.new_code_cell("%time x = 1\nassert x == 1\nif check:\n    assert x > 0, 'skipped'\nfor s in shifts:\n    assert s"),
-                nbformat.v4.new_code_cell("def f():\n    assert True\nassert [1 for _ in range(2)]")]
+                nbformat.v4.new_code_cell("def f():\n    assert True\nassert [1 for _ in range(2)]"),
+                nbformat.v4.new_code_cell("assert set(dir()) & {'os', 'importlib', 'sys', 'smoke_asserts'} == set()")]
     path = tmp_path / "nb.ipynb"
     nbformat.write(nb, path)
     log, ipython = tmp_path / "log", tmp_path / "ipython"
@@ -180,7 +182,7 @@ def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
                          cwd=tmp_path, env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     listed = smoke_asserts.notebook_asserts(path)
-    assert [(a["cell_number"], a["line"]) for a in listed] == [(1, 2), (1, 4), (1, 6), (2, 2), (2, 3)]
+    assert [(a["cell_number"], a["line"]) for a in listed] == [(1, 2), (1, 4), (1, 6), (2, 2), (2, 3), (3, 1)]
     missing = smoke_asserts.not_run(log, [path])["nb.ipynb"]
     assert [(a["cell_number"], a["line"], a["text"]) for a in missing] == [(1, 4, "x > 0"), (1, 6, "s"), (2, 2, "True")]
     assert smoke_asserts.main([str(log), str(path)]) == 1
@@ -188,7 +190,7 @@ def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
     for bad, message in (("%%time\nassert x == 1", "cell magic"), ("assert (", "does not parse"), (nb.cells[1].source, "same code")):
         nb.cells.append(nbformat.v4.new_code_cell(bad))
         nbformat.write(nb, path)
-        with pytest.raises(ValueError, match=f"nb.ipynb, cell 3: .*{message}"):
+        with pytest.raises(ValueError, match=f"nb.ipynb, cell 4: .*{message}"):
             smoke_asserts.notebook_asserts(path)
         nb.cells = nb.cells[:-1]
 
