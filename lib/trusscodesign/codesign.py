@@ -34,7 +34,7 @@ from .results import normalise_key, read_keyed, run_lock, write_json
 from .synthesis import Scenario
 
 __all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
-           "local_client", "partial_path", "run_codesign"]
+           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "START_RULES", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
 H_M0 = 0.03  # m, the section side of the paper's reference truss, whose mass is m0 (whatever the design range)
@@ -78,6 +78,26 @@ def objective_value(mass: float, j_c: float, m0: float) -> float:
     return mass / m0 + abs(TARGET_JC - j_c)
 
 
+def tolerance_shifts(truss_tolerance: float) -> tuple[float, ...]:
+    """The relative section-side errors a truss-tolerant design is synthesised against: ``-t, -t/2, t/2, t`` for the
+    tolerance ``t`` (none for 0: the paper's recipe, the exact truss only).
+
+    Four shifts rather than the two ends: notebook 06b's designs made against these pass all 9 shifts of a finer check
+    within +-2 % (with 37 panel angles), which a check between the synthesised shifts could otherwise fail.
+
+    Raises
+    ------
+    ValueError
+        Unless ``truss_tolerance`` is a relative error in [0, 0.2) (0.02 for 2 %).
+    """
+    if isinstance(truss_tolerance, bool) or not isinstance(truss_tolerance, (int, float, np.integer, np.floating)) \
+            or not (0.0 <= float(truss_tolerance) < 0.2):
+        raise ValueError(f"truss_tolerance must be a relative section-side error in [0, 0.2) (0.02 for +-2 %; 0 for the "
+                         f"paper's recipe), got {truss_tolerance!r}: in percent? (divide by 100)")
+    t = float(truss_tolerance)
+    return () if t == 0.0 else (-t, -t / 2, t / 2, t)
+
+
 def truss_mass_from_dc(models, params: dict | None = None) -> float:
     """T-truss mass [kg] from the DC gain ``W_P1 -> a_P1`` of the reduced model at nominal parameters.
 
@@ -102,7 +122,7 @@ NOT_NUMERICAL: tuple[type[Exception], ...] = (NotImplementedError, RecursionErro
 
 def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
                       m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None,
-                      scenarios0: Sequence[Sequence[float]] | None = None) -> dict:
+                      scenarios0: Sequence[Sequence[float]] | None = None, truss_tolerance: float = 0.0) -> dict:
     """One objective evaluation (Steps 1-4 for one particle); a numerical failure is a penalised particle, not an error.
 
     Parameters
@@ -123,13 +143,18 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
         Initial scenario set of the synthesis, normalised ``(d_mass, d_iyy, d_omega1, theta)`` (default: the
         21 of :func:`trusscodesign.synthesis.default_scenarios`); the warm start passes the set the best particle ended with,
         so that the scenarios its worst-case searches found are there from the start.
+    truss_tolerance : float
+        Relative section-side error the design must survive (0.02: +-2 %): the gain is synthesised on the truss at h and
+        at ``h (1 + s)`` for each shift of :func:`tolerance_shifts` (the truss-tolerant synthesis of notebook 06b), so a
+        design that cannot serve them all is a failed, penalised particle. Default 0: the paper's recipe (the exact truss).
 
     Returns
     -------
     dict
         ``h``, ``f``, ``J_c``, ``Z_c``, ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
         (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
-        ``t_model`` (= ``t_build`` + ``t_reduction``), ``t_synthesis`` [s], ``scenarios`` (the final set, as
+        ``t_model`` (= ``t_build`` + ``t_reduction`` + ``t_variants``, the shifted trusses' models), ``t_synthesis`` [s],
+        ``scenarios`` (the final set, as
         4-vectors, or None). A :data:`NUMERICAL_FAILURES` raised inside (including a bad ``h``) makes the record
         failed, with ``traceback``.
 
@@ -151,8 +176,11 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             if fail:
                 raise RuntimeError("injected failure (test)")
             models = design.models_at(float(h), params=p)
-            out["t_model"] = time.perf_counter() - t0
             out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
+            t1 = time.perf_counter()
+            variants = design.truss_variants(models, tolerance_shifts(truss_tolerance), p)
+            out["t_variants"] = time.perf_counter() - t1
+            out["t_model"] = time.perf_counter() - t0
             mass_dc = truss_mass_from_dc(models, p)
             if not abs(mass_dc - out["mass_check"]) <= 1e-6 * out["mass_check"]:  # (NaN fails too)
                 raise RuntimeError(f"the truss mass from the DC gain, {mass_dc:.6f} kg, differs from rho h^2 L = "
@@ -161,7 +189,7 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             t1 = time.perf_counter()
             scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
             opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
-            res = design.robust_design(models, settings, gain0=gain0, scenarios=scen, workers=1, **opts)
+            res = design.robust_design(models, settings, gain0=gain0, scenarios=scen, variants=variants, workers=1, **opts)
             out["t_synthesis"] = time.perf_counter() - t1
         out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations,
                    scenarios=[sc.vector().tolist() for sc in res.scenarios])
@@ -180,7 +208,7 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
 def _new_record(h: float) -> dict[str, Any]:
     """A particle's record before its evaluation: no design yet (J_c, Z_c infinite), no mass, no times."""
     return {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
-            "t_reduction": 0.0, "t_synthesis": 0.0, "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
+            "t_reduction": 0.0, "t_variants": 0.0, "t_synthesis": 0.0, "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
 
 
 def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:
@@ -210,8 +238,8 @@ def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float
 
 
 # options of design.robust_design itself; the others go to synthesis.synthesize, except those evaluate_particle sets
-_DESIGN_OPTIONS = ("spillover", "variants", "restarts")
-_SET_BY_PARTICLE = ("model", "inertia_p1", "settings", "gain0", "scenarios", "workers", "stability_models")
+_DESIGN_OPTIONS = ("spillover", "restarts")
+_SET_BY_PARTICLE = ("model", "inertia_p1", "settings", "gain0", "scenarios", "workers", "stability_models", "variants")
 
 
 def _check_synthesis_options(options: object) -> None:
@@ -233,9 +261,11 @@ def _check_synthesis_options(options: object) -> None:
         raise TypeError(f"synthesis_options: {exc} (and {list(_DESIGN_OPTIONS)} of trusscodesign.design.robust_design)") from None
 
 
-def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, params: dict | None) -> None:
+def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, params: dict | None,
+                 truss_tolerance: float = 0.0) -> None:
     """Check what every particle of a batch would otherwise fail on, before any is evaluated: each h a section side in
-    metres inside the design range (:func:`trusscodesign.design.models_at` refuses the others), ``m0`` and the synthesis options."""
+    metres inside the design range (:func:`trusscodesign.design.models_at` refuses the others), ``m0``, the synthesis options
+    and the truss tolerance."""
     from .design import in_design_range
 
     low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
@@ -245,6 +275,7 @@ def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, para
                          f"got {hs!r}")
     objective_value(1.0, 0.0, m0)  # m0: a ValueError now, not after every particle's synthesis
     _check_synthesis_options(synthesis_options)
+    tolerance_shifts(truss_tolerance)
 
 
 # Dask's nanny starts its workers with MALLOC_TRIM_THRESHOLD_=65536 (to hand freed memory back to the OS). Setting it
@@ -288,7 +319,7 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
                    params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
                    synthesis_options: dict | None = None,
                    scenarios0: Sequence[Sequence[float]] | None = None, partial: str | Path | None = None,
-                   partial_key: dict | None = None) -> list[dict]:
+                   partial_key: dict | None = None, truss_tolerance: float = 0.0) -> list[dict]:
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
 
     A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default); a
@@ -302,13 +333,15 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     With ``partial`` (a JSON file) every finished evaluation is saved at once with ``partial_key`` (what the
     evaluations depend on); a call with the same key reuses them, so an interrupted batch loses only the
     evaluations that were running. The file also accumulates the wall time spent (``time_s``).
+    ``truss_tolerance``: see :func:`evaluate_particle`.
     """
     from tqdm.auto import tqdm
 
-    _check_batch(hs, m0, synthesis_options, params)
+    _check_batch(hs, m0, synthesis_options, params, truss_tolerance)
     params = params or spacecraft.load_parameters()  # read here, once: the workers evaluate with these, not their own file's
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
-    kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0)
+    kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0,
+                              truss_tolerance=truss_tolerance)
     keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
     unique = list(dict.fromkeys(keys))
     saved = _read_partial(partial, partial_key)
@@ -404,6 +437,35 @@ def partial_path(checkpoint: str | Path) -> Path:
     return checkpoint.with_name(checkpoint.stem + ".partial.json")
 
 
+def evaluations_path(checkpoint: str | Path) -> Path:
+    """File of every evaluation of a swarm started cold (``start="cold"``), next to its checkpoint: kept after the run,
+    so that the grid of the same objective and a rerun read it."""
+    checkpoint = Path(checkpoint)
+    return checkpoint.with_name(checkpoint.stem + ".evaluations.json")
+
+
+#: How a particle's synthesis starts: "previous_best" (the paper's Step 3: from the gain and scenario set of the previous
+#: iteration's best particle) or "cold" (from all gains at -1 and the default scenarios, so that the evaluation is a function
+#: of h alone and a particle at an h evaluated before, by the swarm or by the grid, reuses it).
+START_RULES = ("previous_best", "cold")
+
+
+def evaluation_key(settings: LoopSettings | None, params: dict | None, m0: float = M0_PAPER,
+                   synthesis_options: dict | None = None, truss_tolerance: float = 0.0) -> dict:
+    """What a cold-started evaluation of h depends on besides h (the key of :func:`evaluations_path`'s file, as
+    :func:`evaluate_swarm`'s ``partial_key``): the objective (loop settings, spacecraft parameters, model, m0, truss
+    tolerance), the synthesis options and version. A grid evaluated under this key shares its evaluations with the swarm."""
+    return {"start": "cold", "objective": _objective_key(settings, params, m0, truss_tolerance),
+            "options": _normalised_options(synthesis_options), "algorithm": synthesis.ALGORITHM}
+
+
+def _on_resolution(h: float, resolution: float | None, h_range: Sequence[float]) -> float:
+    """``h`` [m] rounded to the nearest multiple of ``resolution`` [m] (None: unchanged), kept in ``h_range``."""
+    if resolution is None:
+        return float(h)
+    return float(np.clip(round(round(h / resolution) * resolution, 12), h_range[0], h_range[1]))
+
+
 def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | None = None, cache: str | Path | None = None,
                   key: dict | None = None, chunk: int = 4, progress: bool = True, **kwargs) -> tuple[list[dict], float]:
     """The nested objective at every h of a grid [m], each from a cold start (all gains at -1), resumable.
@@ -441,7 +503,7 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         If ``hs`` is empty or holds a section side outside the design range [m], or ``chunk`` < 1; also for a bad ``m0``
         or ``synthesis_options``, before any point is evaluated.
     """
-    _check_batch(hs, kwargs.get("m0", M0_PAPER), kwargs.get("synthesis_options"), kwargs.get("params"))
+    _check_batch(hs, kwargs.get("m0", M0_PAPER), kwargs.get("synthesis_options"), kwargs.get("params"), kwargs.get("truss_tolerance", 0.0))
     check_option("chunk", chunk, 1, integer=True)
     h = np.asarray(hs, dtype=float)
     kwargs["params"] = kwargs.get("params") or spacecraft.load_parameters()  # read once, here: every worker gets these
@@ -473,16 +535,25 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
 
 
 def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: dict | None = None,
-             params: dict | None = None) -> dict:
+             params: dict | None = None, truss_tolerance: float = 0.0) -> dict:
     """The key of a stored grid of the objective (notebook 07's ``07_grid*.json``, :func:`evaluate_grid`'s ``key``):
     the section sides [m], the loop settings, the synthesis options and version, the spacecraft parameters'
     fingerprint (:func:`trusscodesign.spacecraft.parameters_fingerprint`) and the model's version
-    (:data:`trusscodesign.spacecraft.MODEL`); a grid stored under another key is recomputed."""
-    return {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": synthesis_options or SYNTHESIS_OPTIONS,
-            "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params), "model": spacecraft.MODEL}
+    (:data:`trusscodesign.spacecraft.MODEL`), and the truss tolerance when there is one; a grid stored under another key
+    is recomputed."""
+    key = {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": synthesis_options or SYNTHESIS_OPTIONS,
+           "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params), "model": spacecraft.MODEL}
+    return {**key, **_tolerance_entry(truss_tolerance)}
 
 
-def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float) -> dict:
+def _tolerance_entry(truss_tolerance: float) -> dict[str, float]:
+    """The truss tolerance as a key entry: none for the paper's recipe (0), so that the keys of the runs stored before
+    the tolerance existed still match."""
+    tolerance_shifts(truss_tolerance)  # checked
+    return {"truss_tolerance": float(truss_tolerance)} if truss_tolerance else {}
+
+
+def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float, truss_tolerance: float = 0.0) -> dict:
     """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters
     (:func:`trusscodesign.spacecraft.parameters_fingerprint`, of the package's parameters when ``params`` is None), the
     model's version (:data:`trusscodesign.spacecraft.MODEL`) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
@@ -490,7 +561,8 @@ def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float
     # settings=None is what trusscodesign.design.robust_design then takes, the data file's settings: stored resolved, so that a run
     # with None and one with those settings given are the same objective
     resolved = LoopSettings.from_parameters() if settings is None else settings
-    key = {"settings": resolved.__dict__, "params_sha256": digest, "model": spacecraft.MODEL, "m0": float(m0)}
+    key = {"settings": resolved.__dict__, "params_sha256": digest, "model": spacecraft.MODEL, "m0": float(m0),
+           **_tolerance_entry(truss_tolerance)}
     return json.loads(json.dumps(key, default=str))  # as it reads back from a checkpoint
 
 
@@ -504,7 +576,7 @@ def _same_objective(stored: dict, objective: dict) -> bool:
 
 def _changes(stored: dict, objective: dict) -> str:
     """What differs between a stored objective key and this run's, in words."""
-    words = {"params_sha256": "the spacecraft parameters (their fingerprint)", "m0": "m0 [kg]"}
+    words = {"params_sha256": "the spacecraft parameters (their fingerprint)", "m0": "m0 [kg]", "truss_tolerance": "the truss tolerance"}
     out = []
     for k in sorted(set(stored) | set(objective)):
         old, new = stored.get(k), objective.get(k)
@@ -573,10 +645,11 @@ def _check_h_range(h_range: object, params: dict | None = None) -> None:
 
 
 def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequence[float], seed: int, pso_rule: str,
-                         synthesis_options: dict | None, objective: dict) -> str | None:
+                         synthesis_options: dict | None, objective: dict, start: str = "previous_best",
+                         h_resolution: float | None = None) -> str | None:
     """Why the swarm checkpoint stored at ``checkpoint`` cannot be resumed by a run with these settings (None if it can):
     another synthesis version or options, another objective (:func:`_objective_key`: what changed is named), or
-    another swarm (size, seed, range or rule)."""
+    another swarm (size, seed, range or rule), another start rule or h resolution."""
     from . import pso
 
     state = pso.load_state(checkpoint)
@@ -588,6 +661,9 @@ def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequ
     stored = state.extra.get("objective", {})
     if not _same_objective(stored, objective):
         return f"it was computed for another objective ({_changes(stored, objective)})"
+    stored_start = (state.extra.get("start", "previous_best"), state.extra.get("h_resolution"))
+    if stored_start != (start, h_resolution):
+        return f"it was computed with start {stored_start[0]!r} and h_resolution {stored_start[1]!r}, not {start!r} and {h_resolution!r}"
     if not pso.same_run(state, n_particles, [h_range[0]], [h_range[1]], seed, pso_rule):
         return (f"it is from another swarm (n_particles={state.n}, seed={state.seed}, h range [{state.lower[0]}, "
                 f"{state.upper[0]}] m, rule {state.rule!r})")
@@ -598,7 +674,8 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
                  client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
                  m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
                  stop_after: int | None = None, log=print, synthesis_options: dict | None = None, pso_rule: str = "documented",
-                 on_stale: str = "refuse"):
+                 on_stale: str = "refuse", truss_tolerance: float = 0.0, start: str = "previous_best",
+                 h_resolution: float | None = None):
     """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
 
     Parameters
@@ -628,6 +705,16 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         What to do with a checkpoint that this run cannot resume (another synthesis, objective or swarm: edited
         spacecraft parameters, say): raise a ValueError naming what changed (default), or set it aside as
         ``<checkpoint>.stale.json``, log what changed and start afresh (notebook 07: a rerun after an edit recomputes).
+    truss_tolerance : float
+        Relative section-side error every particle's design must survive (:func:`evaluate_particle`; default 0, the
+        paper's recipe).
+    start : {"previous_best", "cold"}
+        How each particle's synthesis starts (:data:`START_RULES`). With "cold" every evaluation is kept in
+        :func:`evaluations_path` of the checkpoint under :func:`evaluation_key`, and reused by any later particle at
+        the same h.
+    h_resolution : float, optional
+        Positions are evaluated at the nearest multiple of this [m] (a manufacturing resolution of the section side);
+        default None: as they are.
 
     Returns
     -------
@@ -643,14 +730,23 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
     _check_h_range(h_range, params)
     objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
     _check_synthesis_options(synthesis_options)  # likewise: a bad option would fail every particle of every iteration
+    tolerance_shifts(truss_tolerance)
     if on_stale not in ("refuse", "restart"):
         raise ValueError(f"on_stale must be 'refuse' or 'restart', got {on_stale!r}")
+    if start not in START_RULES:
+        raise ValueError(f"start must be one of {list(START_RULES)}, got {start!r}")
+    if h_resolution is not None:
+        check_option("h_resolution", h_resolution, 1e-7, 1e-3, unit="m")
+        if h_resolution > 0.1 * (h_range[1] - h_range[0]):
+            raise ValueError(f"h_resolution = {h_resolution!r} m is more than a tenth of the h range {tuple(h_range)} m: the swarm "
+                             "would see a few steps of the objective (0.0001 m is 0.1 mm)")
     params = params or spacecraft.load_parameters()  # read once: the key and every evaluation use these values
     # one run at a time on a checkpoint: another live run holding it stops this one at once, naming it
     with run_lock(checkpoint) if checkpoint is not None else nullcontext():
-        objective = _objective_key(settings, params, m0)
+        objective = _objective_key(settings, params, m0, truss_tolerance)
         if checkpoint is not None and Path(checkpoint).exists():
-            reason = _checkpoint_mismatch(checkpoint, n_particles, h_range, seed, pso_rule, synthesis_options, objective)
+            reason = _checkpoint_mismatch(checkpoint, n_particles, h_range, seed, pso_rule, synthesis_options, objective,
+                                          start, h_resolution)
             if reason is not None and on_stale == "refuse":
                 raise ValueError(f"checkpoint {checkpoint} cannot be resumed by this run: {reason}. Pass another checkpoint "
                                  "path (results_dir), delete it to recompute, or on_stale='restart' to set it aside and start afresh")
@@ -663,26 +759,33 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         def evaluate(x: NDArray, state) -> list[dict]:
             t0 = time.perf_counter()
             state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, synthesis_options, objective
-            gain0 = state.extra.get("best_gain")  # the previous iteration's best particle (None: all gains at -1)
+            if start != "previous_best" or h_resolution is not None:  # (absent: the runs stored before they existed)
+                state.extra["start"], state.extra["h_resolution"] = start, h_resolution
             fails = [p for it, p in fail_particles if it == state.iteration]
-            part = None if checkpoint is None else partial_path(checkpoint)
-            key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
-                   "objective": objective, "options": synthesis_options}
-            recs = evaluate_swarm([float(v[0]) for v in x], gain0, client, settings, params, m0, fails, progress,
-                                  synthesis_options=synthesis_options, scenarios0=state.extra.get("best_scenarios"),
-                                  partial=part, partial_key=key)
+            if start == "cold":  # one file of every evaluation, kept: a particle at an h evaluated before reuses it
+                gain0, scen0 = None, None
+                part = None if checkpoint is None else evaluations_path(checkpoint)
+                key = evaluation_key(settings, params, m0, synthesis_options, truss_tolerance)
+            else:  # the previous iteration's best particle (None: all gains at -1); a file of this iteration's evaluations
+                gain0, scen0 = state.extra.get("best_gain"), state.extra.get("best_scenarios")
+                part = None if checkpoint is None else partial_path(checkpoint)
+                key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
+                       "objective": objective, "options": synthesis_options}
+            recs = evaluate_swarm([_on_resolution(float(v[0]), h_resolution, h_range) for v in x], gain0, client, settings,
+                                  params, m0, fails, progress, synthesis_options=synthesis_options, scenarios0=scen0,
+                                  partial=part, partial_key=key, truss_tolerance=truss_tolerance)
             ok = [r for r in recs if r["gain"] is not None and not str(r.get("status", "")).startswith("failed")]
             if ok:  # (a failed synthesis's gain never becomes the warm start: the previous one is kept)
                 best = min(ok, key=lambda r: r["f"])
                 state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
             wall = time.perf_counter() - t0
-            if part is not None:  # with the time spent on this iteration before an interruption
+            if part is not None and start == "previous_best":  # with the time spent on this iteration before an interruption
                 wall = max(wall, _read_partial(part, key)["time_s"])
             state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [wall]
             return recs
 
         def summary(state) -> None:  # called once the iteration is in the checkpoint
-            if checkpoint is not None:
+            if checkpoint is not None and start == "previous_best":
                 partial_path(checkpoint).unlink(missing_ok=True)
             it = [r for r in state.history if r["iteration"] == state.iteration - 1]
             best = min(it, key=lambda r: r["f"])

@@ -862,3 +862,93 @@ def test_a_cluster_whose_workers_all_died_stops_the_run_instead_of_hanging(monke
     with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
         with pytest.raises(RuntimeError, match=r"the Dask cluster has had no worker for 1 s .* with 1 evaluations waiting: restart"):
             codesign.evaluate_swarm([0.02], None, client, progress=False)
+
+
+def test_tolerance_shifts_are_the_ends_and_the_midpoints_of_the_tolerance():
+    assert codesign.tolerance_shifts(0.02) == (-0.02, -0.01, 0.01, 0.02)
+    assert codesign.tolerance_shifts(0) == ()
+    for bad in (-0.01, 2.0, 0.2, True, "0.02", float("nan")):
+        with pytest.raises(ValueError, match="truss_tolerance must be a relative section-side error"):
+            codesign.tolerance_shifts(bad)
+
+
+def test_a_truss_tolerant_particle_is_synthesised_on_the_shifted_trusses(monkeypatch):
+    """evaluate_particle with truss_tolerance builds the trusses at h (1 + s) for the four shifts and hands them to the
+    synthesis as variants; without it, none (the paper's recipe)."""
+    from types import SimpleNamespace
+
+    from trusscodesign import design
+
+    seen = {}
+    models = SimpleNamespace(h=0.02, assembly_time_s=0.1, build_time_s=0.3)
+    monkeypatch.setattr(design, "models_at", lambda h, params=None: models)
+    monkeypatch.setattr(design, "truss_variants", lambda m, shifts, p=None: [("variant", s) for s in shifts])
+    monkeypatch.setattr(codesign, "truss_mass_from_dc", lambda m, p=None: codesign.spacecraft.truss_mass(0.02, p))
+
+    def robust_design(m, settings, gain0=None, scenarios=None, variants=(), workers=None, **opts):
+        seen["variants"] = list(variants)
+        return SimpleNamespace(j_c=0.9, z_c=0.95, gain=-np.ones((4, 8)), iterations=3, scenarios=[], success=True, message="ok")
+
+    monkeypatch.setattr(design, "robust_design", robust_design)
+    rec = codesign.evaluate_particle(0.02, truss_tolerance=0.02)
+    assert rec["status"] == "ok" and seen["variants"] == [("variant", s) for s in (-0.02, -0.01, 0.01, 0.02)]
+    assert rec["t_model"] >= rec["t_variants"] >= 0.0
+    codesign.evaluate_particle(0.02)
+    assert seen["variants"] == []
+    with pytest.raises(ValueError, match="truss_tolerance"):  # refused before any particle
+        codesign.evaluate_swarm([0.02], None, truss_tolerance=0.5, progress=False)
+
+
+def test_a_cold_started_swarm_evaluates_each_h_once_on_its_resolution_and_shares_with_the_grid(tmp_path, monkeypatch):
+    """start="cold": every particle's synthesis starts from all gains at -1, h is rounded to h_resolution, every
+    evaluation is kept (evaluations_path) and any later particle at that h, in the swarm or in a grid evaluated under
+    evaluation_key, reuses it; a killed run resumes without evaluating a finished h again and ends as an uninterrupted
+    one; a checkpoint of another start rule, resolution or tolerance is not resumed."""
+    calls, broken = [], {"at": None}
+
+    def fake(h, gain0=None, fail=False, scenarios0=None, truss_tolerance=0.0, **kw):
+        assert gain0 is None and scenarios0 is None and truss_tolerance == 0.02
+        if h == broken["at"]:
+            raise RuntimeError("killed")
+        calls.append(h)
+        return {"h": h, "f": abs(h - 0.0213) + h, "J_c": 0.9, "gain": [[h]], "scenarios": None, "status": "ok"}
+
+    monkeypatch.setattr(codesign, "evaluate_particle", fake)
+    run = dict(seed=3, progress=False, log=lambda s: None, truss_tolerance=0.02, start="cold", h_resolution=1e-4)
+    ref = codesign.run_codesign(6, 8, checkpoint=tmp_path / "ref.json", **run)
+    hs = [r["h"] for r in ref.history]
+    assert all(abs(h / 1e-4 - round(h / 1e-4)) < 1e-9 for h in hs)
+    assert sorted(calls) == sorted(set(hs)) and len(set(hs)) < len(hs)  # one evaluation per h, shared across iterations
+    store = json.loads(codesign.evaluations_path(tmp_path / "ref.json").read_text())
+    assert store["key"] == json.loads(json.dumps(codesign.evaluation_key(None, None, synthesis_options=None, truss_tolerance=0.02)))
+    assert len(store["records"]) == len(set(hs))
+
+    # a grid under the same key reads the swarm's evaluations and adds its own
+    calls.clear()
+    grid = [0.015, hs[0], 0.03]
+    recs = codesign.evaluate_swarm(grid, None, progress=False, truss_tolerance=0.02, partial=codesign.evaluations_path(tmp_path / "ref.json"),
+                                   partial_key=codesign.evaluation_key(None, None, truss_tolerance=0.02))
+    assert [r["h"] for r in recs] == grid and sorted(calls) == sorted(set(grid) - set(hs))
+
+    # killed inside the fourth iteration: the rerun evaluates only what was not finished
+    calls.clear()
+    ck = tmp_path / "state.json"
+    fourth = [r["h"] for r in ref.history if r["iteration"] == 3]
+    new = [h for h in dict.fromkeys(fourth) if h not in {r["h"] for r in ref.history if r["iteration"] < 3}]
+    assert len(new) >= 2
+    broken["at"] = new[1]
+    with pytest.raises(RuntimeError, match="killed"):
+        codesign.run_codesign(6, 8, checkpoint=ck, **run)
+    done = list(calls)
+    broken["at"] = None
+    out = codesign.run_codesign(6, 8, checkpoint=ck, **run)
+    assert len(calls) == len(set(calls)) == len(set(hs))  # nothing evaluated twice over the two calls
+    assert done and set(calls[len(done):]).isdisjoint(done)
+    assert out.history == ref.history and out.g_f == ref.g_f
+    for change in ({"start": "previous_best"}, {"h_resolution": 1e-5}, {"truss_tolerance": 0.01}):
+        with pytest.raises(ValueError, match="cannot be resumed"):
+            codesign.run_codesign(6, 9, checkpoint=ck, **{**run, **change})
+    with pytest.raises(ValueError, match=r"h_resolution = 0.0005 m is more than a tenth of the h range \(0.02, 0.021\) m"):
+        codesign.run_codesign(6, 2, h_range=(0.02, 0.021), **{**run, "h_resolution": 5e-4})
+    with pytest.raises(ValueError, match=r"h_resolution must be a number in \[1e-07, 0.001\] m, got 0.002"):
+        codesign.run_codesign(6, 2, **{**run, "h_resolution": 0.002})
