@@ -63,7 +63,7 @@ def main() -> None:
         from trusscodesign import pso
 
         state = pso.load_state(args.report)
-        n_workers = os.cpu_count()
+        n_workers = os.cpu_count() or 1
         particles, iterations = len(state.x), state.iteration
     else:
         client = codesign.local_client(args.workers or None)
