@@ -151,7 +151,9 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     Returns
     -------
     dict
-        ``h``, ``f``, ``J_c``, ``Z_c``, ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
+        ``h``, ``f``, ``J_c``, ``Z_c``, their critical frequencies [rad/s] and panel angles [deg] (``critical_omega``,
+        ``critical_theta_deg``, ``effort_omega``, ``effort_theta_deg``, as :func:`trusscodesign.design.design_record`),
+        ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
         (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
         ``t_model`` (= ``t_build`` + ``t_reduction`` + ``t_variants``, the shifted trusses' models), ``t_synthesis`` [s],
         ``scenarios`` (the final set, as
@@ -191,6 +193,8 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
             res = design.robust_design(models, settings, gain0=gain0, scenarios=scen, variants=variants, workers=1, **opts)
             out["t_synthesis"] = time.perf_counter() - t1
+        record = design.design_record(res)  # with the critical frequencies [rad/s] and panel angles [deg]
+        out.update({k: record[k] for k in _CRITICAL})
         out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations,
                    scenarios=[sc.vector().tolist() for sc in res.scenarios])
         out["status"] = "ok" if res.success else f"failed: {res.message}"
@@ -205,10 +209,13 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     return _with_objective(out, m0)
 
 
+_CRITICAL = ("critical_omega", "critical_theta_deg", "effort_omega", "effort_theta_deg")
+
+
 def _new_record(h: float) -> dict[str, Any]:
     """A particle's record before its evaluation: no design yet (J_c, Z_c infinite), no mass, no times."""
     return {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
-            "t_reduction": 0.0, "t_variants": 0.0, "t_synthesis": 0.0, "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
+            "t_reduction": 0.0, "t_variants": 0.0, "t_synthesis": 0.0, **dict.fromkeys(_CRITICAL), "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
 
 
 def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:

@@ -887,7 +887,8 @@ def test_a_truss_tolerant_particle_is_synthesised_on_the_shifted_trusses(monkeyp
 
     def robust_design(m, settings, gain0=None, scenarios=None, variants=(), workers=None, **opts):
         seen["variants"] = list(variants)
-        return SimpleNamespace(j_c=0.9, z_c=0.95, gain=-np.ones((4, 8)), iterations=3, scenarios=[], success=True, message="ok")
+        return SimpleNamespace(j_c=0.9, z_c=0.95, gain=-np.ones((4, 8)), iterations=3, scenarios=[], success=True, message="ok",
+                               restarts=0, worst=None, time_s=1.0)
 
     monkeypatch.setattr(design, "robust_design", robust_design)
     rec = codesign.evaluate_particle(0.02, truss_tolerance=0.02)
