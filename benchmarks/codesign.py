@@ -57,7 +57,7 @@ def main() -> None:
     parser.add_argument("--json", default="", help="where to save the figures (default benchmarks/results/codesign_<preset>.json;"
                         " give another path for a rerun that must not replace the stored one)")
     args = parser.parse_args()
-    params = spacecraft.load_parameters() if args.preset == "stated" else spacecraft.preset_parameters(args.preset)
+    params = spacecraft.study_parameters(args.preset)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign_{args.preset}_checkpoint.json"
     if args.report:
         from trusscodesign import pso
@@ -80,23 +80,22 @@ def main() -> None:
     if state.extra.get("start") == "cold" and store.exists():  # with the time of iterations interrupted before a resume
         wall = max(wall, float(json.loads(store.read_text())["time_s"]))
     hist = state.history
-    if state.extra.get("start", "previous_best") == "cold":  # one evaluation per h in the whole run
-        own = list({r["h"]: r for r in hist}.values())
-    else:  # particles at the same h of one iteration share one evaluation
-        own = [r for r in hist if "shared_with" not in r]
+    start = state.extra.get("start", "previous_best")
+    counts = codesign.evaluation_counts(hist, start)
+    own = codesign.distinct_evaluations(hist, start)
     mean = lambda k: float(np.mean([r.get(k, 0.0) for r in own]))  # noqa: E731
     best = min(hist, key=lambda r: r["f"])
     out = {
         "machine": machine_info(),
         "particles": particles, "iterations": iterations, "workers": n_workers, "particle_records": len(hist),
-        "evaluations": len(own), "wall_time_s": wall, "wall_time_min": wall / 60,
+        "evaluations": counts["distinct"], "wall_time_s": wall, "wall_time_min": wall / 60,
         "iteration_wall_s": state.extra.get("iteration_wall_s", []),
         "per_evaluation_s": {"assembly": mean("t_build"), "reduction": mean("t_reduction"),
                              "tolerance_models": mean("t_variants"), "synthesis": mean("t_synthesis"), "total": mean("t_total")},
         "worker_waiting_s": wall * n_workers - float(sum(r["t_total"] for r in own)),
         "preset": args.preset, "truss_tolerance": state.extra.get("objective", {}).get("truss_tolerance", 0.0),
         "start": state.extra.get("start", "previous_best"), "h_resolution_m": state.extra.get("h_resolution"),
-        "failed_or_penalised": sum(not str(r["status"]).startswith("ok") for r in own),
+        "failed_or_penalised": counts["failed"],
         "best": {k: best[k] for k in ("h", "f", "J_c", "Z_c", "mass")},
         "source": args.report or "this run",
         "synthesis_algorithm": state.extra.get("algorithm"), "synthesis_options": state.extra.get("options"), "pso_rule": state.rule,

@@ -34,7 +34,7 @@ from .results import normalise_key, read_keyed, run_lock, write_json
 from .synthesis import Scenario
 
 __all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
-           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "START_RULES", "run_codesign"]
+           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
 H_M0 = 0.03  # m, the section side of the paper's reference truss, whose mass is m0 (whatever the design range)
@@ -675,6 +675,28 @@ def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequ
         return (f"it is from another swarm (n_particles={state.n}, seed={state.seed}, h range [{state.lower[0]}, "
                 f"{state.upper[0]}] m, rule {state.rule!r})")
     return None
+
+
+def distinct_evaluations(history: Sequence[Mapping[str, Any]], start: str = "previous_best") -> list[Mapping[str, Any]]:
+    """The records of a swarm's distinct evaluations, one per evaluation however many particles shared it.
+
+    With ``start="cold"`` an evaluation is a function of h: one per distinct h of the whole run (some may have been
+    made by a grid of the same key). With ``"previous_best"`` particles share only within an iteration
+    (:func:`evaluate_swarm`'s ``shared_with``).
+    """
+    if start not in START_RULES:
+        raise ValueError(f"start must be one of {list(START_RULES)}, got {start!r}")
+    return list({r["h"]: r for r in history}.values()) if start == "cold" else [r for r in history if "shared_with" not in r]
+
+
+def evaluation_counts(history: Sequence[Mapping[str, Any]], start: str = "previous_best") -> dict[str, int]:
+    """How a swarm's particles were evaluated: ``particles``, ``distinct`` evaluations (:func:`distinct_evaluations`),
+    ``shared`` (particles that reused another's), ``failed`` (distinct evaluations failed or penalised) and
+    ``failed_particles``."""
+    own = distinct_evaluations(history, start)
+    bad = lambda r: not str(r.get("status", "")).startswith("ok")  # noqa: E731
+    return {"particles": len(history), "distinct": len(own), "shared": len(history) - len(own),
+            "failed": sum(map(bad, own)), "failed_particles": sum(map(bad, history))}
 
 
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,

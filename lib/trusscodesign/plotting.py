@@ -121,44 +121,74 @@ def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[flo
     return fig
 
 
-def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, title: str = "", jc_limit: float = 2.0) -> plt.Figure:
-    """The co-design objective on a grid of h: ``f^n``, the robust ``J_c`` (with the 0.9 target) and the truss mass.
+def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, title: str = "", jc_limit: float = 2.0,
+                   history: Sequence[Mapping] = (), target: float = 0.9, m0: float | None = None) -> plt.Figure:
+    """The co-design's landscape on a grid of h: ``f^n``, the robust ``J_c`` (with its target), ``Z_c`` and the truss mass.
 
     Parameters
     ----------
     records : sequence of mapping
-        One per grid point, with ``h`` [m], ``f``, ``J_c`` and ``mass`` [kg] (:func:`trusscodesign.codesign.evaluate_grid`);
-        penalised or failed points (``J_c`` infinite or above ``jc_limit``) are marked at the top of the f panel (their
-        ``f^n``, the mass plus the penalty, would squash the valid curve) and left out of the J_c panel.
+        One per grid point, with ``h`` [m], ``f``, ``J_c``, ``Z_c`` (optional) and ``mass`` [kg]
+        (:func:`trusscodesign.codesign.evaluate_grid`); penalised or failed points (``J_c`` infinite or above
+        ``jc_limit``) are marked at the top of the f panel (their ``f^n``, the mass plus the penalty, would squash the
+        valid curve) and left out of the J_c and Z_c panels.
     best : mapping, optional
         The swarm's best particle (same keys), marked on the f and J_c panels (left out if it is itself penalised).
     title : str
         Prefix of the panel titles.
     jc_limit : float
         ``J_c`` above which the objective is penalised (:data:`trusscodesign.codesign.JC_LIMIT`).
+    history : sequence of mapping, optional
+        The swarm's particles (same keys): their valid evaluations drawn as small dots on the f, J_c and Z_c panels.
+    target : float
+        The ``J_c`` the objective aims at (0.9): drawn, with the h where the grid's ``J_c`` crosses it (linear
+        interpolation between the two grid points around each crossing).
+    m0 : float, optional
+        Reference mass [kg] of the objective, drawn on the mass panel.
     """
     h = 100 * np.array([r["h"] for r in records])
     f, j_c, mass = (np.array([r[k] for r in records], dtype=float) for k in ("f", "J_c", "mass"))
+    z_c = np.array([r.get("Z_c", np.nan) for r in records], dtype=float)
     valid = np.isfinite(j_c) & (j_c <= jc_limit)
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-    axes[0].plot(h, np.where(valid, f, np.nan), "k.-", label="dense grid")  # NaN: the curve breaks at penalised points
+    fig, axes = plt.subplots(2, 2, figsize=(13, 8), sharex=True)
+    ax_f, ax_j, ax_z, ax_m = axes.ravel()
+    ax_f.plot(h, np.where(valid, f, np.nan), "k.-", label="dense grid")  # NaN: the curve breaks at penalised points
+    if valid.any():
+        i = int(np.nanargmin(np.where(valid, f, np.nan)))
+        ax_f.plot(h[i], f[i], "s", mfc="none", mec="C3", ms=10, label=f"grid minimum: {f[i]:.4f} at {h[i]:.2f} cm")
     if not valid.all():
         top = np.nanmax(f[valid]) * 1.05 if valid.any() else np.nanmax(f)
-        axes[0].plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False,
-                     label=f"penalised (failed or $J_c > {jc_limit:g}$),\ndrawn at the top: their $f^n$ is {np.nanmin(f[~valid]):.4g}"
-                     + (f"-{np.nanmax(f[~valid]):.4g}" if np.sum(~valid) > 1 else ""))
-    axes[1].plot(h, np.where(valid, j_c, np.nan), "C3.-", label="dense grid")
-    axes[1].axhline(0.9, color="k", ls=":", label="target 0.9")
+        ax_f.plot(h[~valid], np.full((~valid).sum(), top), "rx", clip_on=False,
+                  label=f"penalised (failed or $J_c > {jc_limit:g}$),\ndrawn at the top: their $f^n$ is {np.nanmin(f[~valid]):.4g}"
+                  + (f"-{np.nanmax(f[~valid]):.4g}" if np.sum(~valid) > 1 else ""))
+    ax_j.plot(h, np.where(valid, j_c, np.nan), "C3.-", label="dense grid")
+    ax_j.axhline(target, color="k", ls=":", label=f"target {target:g}")
+    for k in np.flatnonzero(valid[:-1] & valid[1:] & (np.sign(j_c[:-1] - target) * np.sign(j_c[1:] - target) < 0)):
+        x = h[k] + (target - j_c[k]) * (h[k + 1] - h[k]) / (j_c[k + 1] - j_c[k])
+        for ax in (ax_f, ax_j):
+            ax.axvline(x, color="C2", ls="--", lw=1, label=f"$J_c$ crosses {target:g} at {x:.2f} cm")
+    ax_z.plot(h, np.where(valid, z_c, np.nan), "C4.-", label="dense grid")
+    ax_z.axhline(1.0, color="k", ls=":", label="bound 1")
+    swarm = [r for r in history if np.isfinite(float(r["J_c"])) and float(r["J_c"]) <= jc_limit]
+    if swarm:
+        hs = 100 * np.array([r["h"] for r in swarm])
+        for ax, key in ((ax_f, "f"), (ax_j, "J_c"), (ax_z, "Z_c")):
+            ax.plot(hs, [r.get(key, np.nan) for r in swarm], ".", color="0.55", ms=4, zorder=1,
+                    label=f"swarm particles ({len(swarm)} valid of {len(history)})")
     if best is not None and np.isfinite(float(best["J_c"])) and float(best["J_c"]) <= jc_limit:
-        axes[0].plot(100 * best["h"], best["f"], "o", color="gold", mec="k", label="PSO best")
-        axes[1].plot(100 * best["h"], best["J_c"], "o", color="gold", mec="k", label="PSO best")
-    axes[2].plot(h, mass, "C0.-")
-    for ax, ylabel, name in zip(axes, ("$f^n$", "$J_c$ (robust, worst case)", "truss mass [kg]"),
-                                ("objective", "pointing performance", "mass")):
-        ax.set(xlabel="h [cm]", ylabel=ylabel, title=f"{title}{name}")
+        ax_f.plot(100 * best["h"], best["f"], "o", color="gold", mec="k", label=f"PSO best: {best['f']:.4f} at {100 * best['h']:.2f} cm")
+        ax_j.plot(100 * best["h"], best["J_c"], "o", color="gold", mec="k", label="PSO best")
+    ax_m.plot(h, mass, "C0.-", label="truss mass")
+    if m0 is not None:
+        ax_m.axhline(m0, color="k", ls=":", label=f"$m_0$ = {m0:g} kg")
+    for ax, ylabel, name in zip(axes.ravel(), ("$f^n$", "$J_c$ (robust, worst case)", "$Z_c$ (effort, worst case)", "truss mass [kg]"),
+                                ("objective", "pointing performance", "actuator effort", "mass")):
+        ax.set(ylabel=ylabel, title=f"{title}{name}")
         ax.grid(alpha=0.3)
-    for ax in axes[:2]:  # under the axes: inside, they covered grid points (the minimum at 1.7 cm of the preset's grid)
-        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16))
+        ax.legend(fontsize=7)
+    for ax in axes[1]:
+        ax.set_xlabel("h [cm]")
+    fig.tight_layout()
     return fig
 
 

@@ -32,7 +32,7 @@ from .reduction import modal_reduction, static_gain
 from .titop import DAMPING_MODELS, Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["MODEL", "load_parameters", "parameters_fingerprint", "inputs_key", "LOOP_CHOICES", "model_inputs", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+__all__ = ["MODEL", "STATED", "study_parameters", "load_parameters", "parameters_fingerprint", "inputs_key", "LOOP_CHOICES", "model_inputs", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset", "preset_parameters"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
@@ -442,6 +442,28 @@ def load_preset(name: str) -> dict:
     if not isinstance(name, str) or name not in known:  # a name, not a path: "../parameters" must not reach other files
         raise ValueError(f"unknown preset {name!r}: give the name of a file of {folder} without .json; available: {known}")
     return json.loads((folder / f"{name}.json").read_text())
+
+
+STATED = "stated"  # the name of the paper's stated values (no preset) where a study takes a preset name
+
+
+def study_parameters(name: str) -> dict:
+    """The spacecraft parameters of a study: the package's (the paper's stated values) for :data:`STATED`, else those of
+    the preset ``name`` (:func:`preset_parameters`).
+
+    Raises
+    ------
+    ValueError
+        For a name that is neither ``"stated"`` nor a preset (naming the presets).
+    """
+    if name == STATED:
+        return load_parameters()
+    try:
+        return preset_parameters(name)
+    except ValueError as exc:
+        if "unknown preset" in str(exc):
+            raise ValueError(f"{exc}, or {STATED!r} for the paper's stated values") from None
+        raise
 
 
 def preset_parameters(name: str, params: dict | None = None) -> dict:

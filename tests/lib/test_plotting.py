@@ -26,6 +26,20 @@ def test_objective_grid_keeps_penalised_points_off_the_curve():
     assert "their $f^n$ is 10.3" in marks[0].get_label()  # the legend gives the value the mark does not show
 
 
+def test_objective_grid_marks_where_jc_crosses_its_target_and_the_swarms_particles():
+    """The crossing of 0.9 is interpolated between the grid points around it (here J_c falls from 1.1 at 2 cm to 0.7 at
+    2.2 cm: 0.9 at 2.1 cm); the swarm's valid particles are drawn, its penalised ones are not; m0 on the mass panel."""
+    records = [dict(h=h, f=1.0, J_c=j, Z_c=0.95, mass=90.0) for h, j in ((0.018, 1.5), (0.02, 1.1), (0.022, 0.7), (0.024, 0.5))]
+    history = [dict(h=0.021, f=0.6, J_c=0.9, Z_c=0.97), dict(h=0.015, f=10.4, J_c=3.0, Z_c=0.9)]
+    fig = plotting.objective_grid(records, best=history[0], history=history, m0=183.11)
+    ax_f, ax_j, ax_z, ax_m = fig.axes
+    crossing = [line for line in ax_j.get_lines() if line.get_label().startswith("$J_c$ crosses")]
+    assert len(crossing) == 1 and np.allclose(crossing[0].get_xdata(), 2.1) and "2.10 cm" in crossing[0].get_label()
+    dots = next(line for line in ax_z.get_lines() if line.get_label().startswith("swarm particles"))
+    assert np.allclose(dots.get_xdata(), [2.1]) and "(1 valid of 2)" in dots.get_label()
+    assert any(line.get_label() == "$m_0$ = 183.11 kg" for line in ax_m.get_lines())
+
+
 def _history(n_it=3, n_p=4):
     """Particle records: iteration k, particle i at h = 1.5 + 0.1 i cm; the best (lowest f) is particle (k + 1) % n_p."""
     recs = []
@@ -65,10 +79,10 @@ def test_pso_panels_leaves_penalised_particles_out_of_the_jc_boxplots():
 
 def test_objective_grid_breaks_the_curves_at_penalised_points():
     """The f^n and J_c curves are not drawn across a penalised grid point as if it were valid."""
-    records = [dict(h=0.015 + 0.001 * i, f=0.9 + 0.05 * i, J_c=0.02, mass=50.0 + 5 * i) for i in range(6)]
-    records[3].update(f=10.3, J_c=float("inf"))
+    records = [dict(h=0.015 + 0.001 * i, f=0.9 + 0.05 * i, J_c=0.02, Z_c=0.9, mass=50.0 + 5 * i) for i in range(6)]
+    records[3].update(f=10.3, J_c=float("inf"), Z_c=float("inf"))
     fig = plotting.objective_grid(records, jc_limit=2.0)
-    for ax in fig.axes[:2]:
+    for ax in fig.axes[:3]:
         curve = next(line for line in ax.get_lines() if line.get_label() == "dense grid")
         x, y = np.asarray(curve.get_xdata(), float), np.asarray(curve.get_ydata(), float)
         assert np.isnan(y[np.isclose(x, 1.8)]).all() and np.isclose(x, 1.8).any()

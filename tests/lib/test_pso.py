@@ -953,3 +953,13 @@ def test_a_cold_started_swarm_evaluates_each_h_once_on_its_resolution_and_shares
         codesign.run_codesign(6, 2, h_range=(0.02, 0.021), **{**run, "h_resolution": 5e-4})
     with pytest.raises(ValueError, match=r"h_resolution must be a number in \[1e-07, 0.001\] m, got 0.002"):
         codesign.run_codesign(6, 2, **{**run, "h_resolution": 0.002})
+
+
+def test_evaluation_counts_of_a_cold_and_of_a_warm_started_swarm():
+    """Cold: one evaluation per h over the whole run; previous_best: particles share only within an iteration."""
+    hist = [dict(h=0.02, status="ok"), dict(h=0.02, status="ok", shared_with=0), dict(h=0.021, status="penalty: J_c > 2"),
+            dict(h=0.02, status="ok"), dict(h=0.022, status="failed: x")]
+    assert codesign.evaluation_counts(hist, "cold") == dict(particles=5, distinct=3, shared=2, failed=2, failed_particles=2)
+    assert codesign.evaluation_counts(hist) == dict(particles=5, distinct=4, shared=1, failed=2, failed_particles=2)
+    with pytest.raises(ValueError, match="start must be one of"):
+        codesign.evaluation_counts(hist, "warm")

@@ -268,3 +268,10 @@ def test_model_inputs_leave_out_the_loop_settings_only():
                                          "choices": {**p["choices"], "xi_pma": 0.3, "effort": "transmitted"}}
     assert spacecraft.model_inputs(loop) == spacecraft.model_inputs(p)
     assert spacecraft.model_inputs(spacecraft.with_choices(p, antenna_node="N17")) != spacecraft.model_inputs(p)
+
+
+def test_study_parameters_are_the_stated_values_or_a_presets():
+    assert spacecraft.study_parameters("stated") == spacecraft.load_parameters()
+    assert spacecraft.study_parameters("paper_calibrated") == spacecraft.preset_parameters("paper_calibrated")
+    with pytest.raises(ValueError, match="unknown preset 'calibrated'.*or 'stated' for the paper's stated values"):
+        spacecraft.study_parameters("calibrated")
