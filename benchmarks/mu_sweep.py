@@ -25,7 +25,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from trusscodesign import codesign, design, robustness  # noqa: E402
+from trusscodesign import codesign, design, robustness, spacecraft  # noqa: E402
 from trusscodesign.closedloop import LoopSettings  # noqa: E402
 
 
@@ -40,9 +40,10 @@ def main() -> None:
     parser.add_argument("--n-tau", type=int, default=50)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    settings = LoopSettings.from_parameters()
     source, h, gain = design.stored_design(args.design)
-    models = design.models_at(h)
+    params = spacecraft.study_parameters(design.stored_preset(args.design))  # those the design was made for
+    settings = LoopSettings.from_parameters(params)
+    models = design.models_at(h, params)
     thetas = 4 * np.arctan(np.linspace(0.0, 1.0, args.n_tau))
     opts: dict = dict(n_log=150, focus=0.7, seed=2026)
 
@@ -64,7 +65,7 @@ def main() -> None:
     gap = float(np.max(a["upper"] / a["lower"] - 1))
     print(f"{args.workers} workers: {t_par:.1f} s (of which {t_start:.1f} s to start the cluster): x{t_seq / t_par:.2f}; "
           f"largest relative difference upper {diff['upper']:.1e}, lower {diff['lower']:.1e}; largest gap {100 * gap:.3f} %")
-    out = dict(machine=machine_info(), design=dict(source=source, h=h), n_tau=args.n_tau, options=opts,
+    out = dict(machine=machine_info(), design=dict(source=source, h=h, preset=design.stored_preset(args.design)), n_tau=args.n_tau, options=opts,
                in_process_s=t_seq, workers=args.workers, dask_s=t_par, dask_cluster_start_s=t_start, speed_up=t_seq / t_par,
                largest_relative_difference=diff, largest_gap=gap)
     path = Path(__file__).parent / "results" / "mu_sweep.json"

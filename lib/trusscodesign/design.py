@@ -30,7 +30,7 @@ from .lft import LFT
 from .checks import check_option
 from .synthesis import NOT_STABILISED, Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "truss_shift_check",
+__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "stored_preset", "truss_shift_check",
            "truss_variants"]
 
 
@@ -388,6 +388,28 @@ def stored_design(source: str | int = "auto", results_dir: str = "data/results",
     if stored[key].get("success") is False:
         raise ValueError(f"notebook 06's design at {key} cm failed its synthesis ({stored[key].get('message')}): not a design to analyse")
     return "06", *_checked_design(float(h_fallback), stored[key].get("gain"), f"notebook 06's design at {key} cm")
+
+
+def stored_preset(source: str | int = "auto", results_dir: str = "data/results") -> str:
+    """The spacecraft parameters :func:`stored_design` ``(source, results_dir)``'s design was made for: the preset name
+    notebook 07 stored with its optimum (:func:`trusscodesign.spacecraft.study_parameters`), or ``"stated"`` (notebook 06's
+    designs, and notebook 07's runs stored before the co-design took a preset).
+
+    Raises
+    ------
+    ValueError
+        If the preset's parameters are no longer those the design was made with (an edited preset file), naming it.
+    """
+    name, _, _ = stored_design(source, results_dir)  # (its checks: the file, the inputs, the design)
+    if name != "07":
+        return spacecraft.STATED
+    best = results.load_results("07_pso_codesign", results_dir)["results"]["optimum"]
+    preset = str(best.get("preset", spacecraft.STATED))
+    stored = best.get("parameters_sha256")
+    if stored is not None and stored != spacecraft.parameters_fingerprint(spacecraft.study_parameters(preset)):
+        raise ValueError(f"notebook 07's optimum was made for the preset {preset!r} as it was then, not as it is now "
+                         "(its parameters' fingerprint differs): rerun notebook 07")
+    return preset
 
 
 def _field(payload: dict, keys: tuple[str, ...], path: object) -> Any:

@@ -327,3 +327,21 @@ def test_tolerant_designs_serve_the_shifted_trusses_and_record_both(monkeypatch)
     assert (tol["critical_omega"], tol["critical_theta_deg"], tol["effort_omega"]) == (97.5, 90.0, 418.0)
     assert np.isnan(rec["critical_omega"]) and rec["success"] is False and np.shape(tol["gain"]) == (4, 8)
     json.dumps(results.to_jsonable(out), allow_nan=False)
+
+
+def test_stored_preset_names_the_parameters_of_the_stored_optimum(tmp_path: pathlib.Path) -> None:
+    """Notebook 07's optimum carries its preset and the fingerprint of its parameters: stored_preset returns the preset,
+    refuses it once the preset's parameters changed, and says "stated" for optima without one and for notebook 06."""
+    from trusscodesign import spacecraft
+
+    opt = {"h": 0.0214, "gain": np.ones((4, 8)), "status": "ok"}
+    results.save_results("07_pso_codesign", {"optimum": opt}, tmp_path, inputs=INPUTS)
+    assert design.stored_preset("auto", str(tmp_path)) == "stated"
+    digest = spacecraft.parameters_fingerprint(spacecraft.study_parameters("paper_calibrated"))
+    results.save_results("07_pso_codesign", {"optimum": {**opt, "preset": "paper_calibrated", "parameters_sha256": digest}},
+                         tmp_path, inputs=INPUTS)
+    assert design.stored_preset(7, str(tmp_path)) == "paper_calibrated"
+    results.save_results("07_pso_codesign", {"optimum": {**opt, "preset": "paper_calibrated", "parameters_sha256": "0" * 64}},
+                         tmp_path, inputs=INPUTS)
+    with pytest.raises(ValueError, match="made for the preset 'paper_calibrated' as it was then"):
+        design.stored_preset("auto", str(tmp_path))
