@@ -37,8 +37,8 @@ __all__ = ["authority_share", "ModeAuthority", "modal_authority"]
 def _filter(plant: GeneralizedPlant, s: ArrayLike) -> NDArray[np.complex128]:
     """The PMA filter ``F_PMA(s) = s / (s^2 + 2 xi w s + w^2)`` at the complex frequencies ``s``."""
     st = plant.settings
-    s = np.asarray(s, dtype=complex)
-    return s / (s**2 + 2 * st.xi_pma * st.omega_pma * s + st.omega_pma**2)
+    z = np.asarray(s, dtype=np.complex128)
+    return np.asarray(z / (z**2 + 2 * st.xi_pma * st.omega_pma * z + st.omega_pma**2), dtype=np.complex128)
 
 
 def _columns(plant: GeneralizedPlant) -> tuple[slice, slice, slice]:
