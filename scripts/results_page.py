@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 NOTEBOOKS = ("01_titop_beam", "02_mechanisms_2d", "03_cube_vs_nastran", "04_t_truss_spacecraft", "05_lft_reduction",
-             "06_robust_synthesis", "06b_calibration_tolerance", "07_pso_codesign", "08_worst_case_mu")
+             "06_robust_synthesis", "06b_calibration_tolerance", "06c_pma_authority", "07_pso_codesign", "08_worst_case_mu")
 PAGE = Path("docs") / "results.md"
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -536,6 +536,36 @@ their price on the exact truss is {', '.join(pct(x['J_c_price'], 1, True) for x 
 """
 
 
+def nb06c(d: dict) -> str:
+    r, p = d["06c"]["results"], d["06c"]["parameters"]
+    peak = r["peak_share"]
+    rows = [[x["reading"], x["support"], "yes" if x["defensible"] else "no", f"{x['share']:.3g}", f"x{x['share'] / r['readings'][0]['share']:.3g}",
+             f"{x['passive J']:.4f} ({x['passive omega']:.1f})", val(x["J_c"]), val(x["Z_c"], 3), f"{num(x['critical_omega']):.1f}",
+             f"{num(x['critical_theta_deg']):.1f}"] for x in r["readings"]]
+    modes = [[m["preset"], f"{m['theta_deg']:g}", f"{m['omega']:.1f}", sci(m["damping"]), sci(m["disturbance forcing"], 2),
+              sci(m["PMA forcing"], 2), f"{m['modal share']:.3g}", f"{m['share at the mode']:.3g}", f"{m['LOS peak']:.3g}"] for m in r["modal"]]
+    return f"""## 06c · The PMAs' authority, and the readings of the paper that move it
+
+The **authority share** is the share of u_max the PMAs need to cancel the SADM disturbance's line-of-sight response,
+sigma_max(H_LOS,u^+ H_LOS,p) p_max / u_max on the passive loop (`trusscodesign.authority`). At a lightly damped mode it
+is the ratio of the modal forcings of the worst disturbance (at p_max) and of the PMAs (at u_max), whatever the mode's
+damping. At h = {cm(p['h_design'])} cm, at the mode with the largest LOS peak over the panel angles
+{', '.join(f'{t:g}' for t in p['figure_thetas'])} deg: with the stated values {peak['stated']['share at the mode']:.3g} at
+{peak['stated']['omega']:.1f} rad/s; with `paper_calibrated` (u_max 0.1 N) {peak['paper_calibrated']['share at the mode']:.3g}
+at {peak['paper_calibrated']['omega']:.1f} rad/s. The modes that matter most to the line of sight (the share at the mode
+also cancels the LOS axis the mode does not move, so it can exceed the modal share):
+
+{table(['preset', 'panel angle [deg]', 'mode [rad/s]', 'damping', 'disturbance forcing', 'PMA forcing', 'modal share', 'share at the mode', 'LOS peak'], modes)}
+
+**Each reading of the paper with the stated 15 N** (one input changed from the stated values; the share at the passive
+worst case's peak; the robust design of the paper's recipe):
+
+{table(['reading', 'what in the paper supports it', 'defensible', 'share', 'share / stated', 'passive J (rad/s)', 'J_c', 'Z_c', 'critical frequency', 'panel angle [deg]'], rows)}
+
+**Verdict:** {r['verdict']}.
+"""
+
+
 def nb07(d: dict) -> str:
     p, r = d["07"]["parameters"], d["07"]["results"]
     opt, pp, grid, pre = r["optimum"], r["paper"], r["grid"], r["preset"]
@@ -752,7 +782,7 @@ shifts within ±2 %; an uncertain truss stiffness in the LFT would be the natura
 def page(root: Path) -> str:
     """The results page (Markdown, ending with one newline)."""
     d = load(root)
-    parts = [intro(d), nb01(d), nb02(d), nb03(d), nb04(d), nb05(d), nb06(d), nb06b(d), nb07(d), nb08(d), not_reproduced(d)]
+    parts = [intro(d), nb01(d), nb02(d), nb03(d), nb04(d), nb05(d), nb06(d), nb06b(d), nb06c(d), nb07(d), nb08(d), not_reproduced(d)]
     return "\n\n".join(part.strip("\n") for part in parts) + "\n"
 
 

@@ -173,6 +173,12 @@ def glance(root: Path) -> str:
              + f" (J_c = {cal['J_c']:.4f} at {cal['critical_omega']:.1f} rad/s)"
              + "".join(f", not {k}" for k in verdicts if not verdicts[k])
              + f", with a PMA authority of {u_max['calibrated']:g} N (not {u_max['stated']:g} N).")
+    r6c = _load(root, "06c_pma_authority")
+    largest, cal_share = r6c["largest_defensible"], r6c["peak_share"]["paper_calibrated"]["share at the mode"]
+    text += (" Read with the stated 15 N, " + ("a defensible reading of the paper reaches its outcomes (notebook 06c)." if r6c["paper_physical"] else
+             f"no defensible reading of the paper (notebook 06c: conventions, PMA layout, SADM, antenna node, alone or together) needs "
+             f"more than {largest['share']:.2g} of the PMA bound to cancel the disturbance at the critical peak, against "
+             f"{cal_share:.2g} times the calibrated preset's bound."))
     return "**At a glance.** " + text + " Why, and every number: [docs/results.md](docs/results.md)."
 
 

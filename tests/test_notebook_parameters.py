@@ -33,6 +33,8 @@ CASES = [  # (notebook, bad parameters, what the message must say)
     ("07_pso_codesign", {"trust_region": "circle"}, r"trust_region"),
     ("07_pso_codesign", {"pso_tolerance": -0.1}, r"pso_tolerance must be a number in [0, 1]"),
     ("06b_calibration_tolerance", {"reference_dir": "nowhere"}, r"reference_dir = 'nowhere': no stored results"),
+    ("06c_pma_authority", {"readings": [{"u_convention": "acceleration"}]}, r"u_convention must be one of ['force', 'proof-mass acceleration']"),
+    ("06c_pma_authority", {"n_omega": 2}, r"n_omega must be an integer in [10, inf), got 2"),
     ("08_worst_case_mu", {"certify_groups": ["RPE"]}, r"certify_groups entries must be one of ['rpe', 'effort'], got 'RPE'"),
     ("08_worst_case_mu", {"samples_per_period": 4}, r"samples_per_period must be an integer in [8, inf), got 4"),
     ("08_worst_case_mu", {"h_shifts": [2.0]}, r"h_shifts[0] must be a number in [-0.5, 0.5] (relative), got 2.0"),

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from . import design, spacecraft
+from . import authority, design, spacecraft, synthesis
 from .closedloop import LoopSettings
 from .results import read_keyed, run_lock, write_json
 
@@ -110,6 +110,20 @@ def levers(params: dict | None = None) -> dict[str, Lever]:
         Lever("panel_frame", "panel frames", ("turned", "literal"), "turned", model="panel_turn_z_deg",
               mapping={"turned": dict(ch["panel_turn_z_deg"]), "literal": {"SP1": 0.0, "SP2": 0.0}},
               why="panels' long axes along the rotation axis (chosen), or the literal R_x(theta) of the paper's table"),
+        # readings of the paper (notebook 06c): conventions and layouts its text allows
+        Lever("u_convention", "PMA command u read as", ("force", "proof-mass acceleration"), "force", setting="u_max",
+              mapping={"force": cl["u_max"], "proof-mass acceleration": p["pma"]["proof_mass"] * cl["u_max"]},
+              why="u_max a force [N], or an acceleration of the proof mass [m/s^2] (the force bound is then m u_max)"),
+        Lever("p_max_convention", "p_max bounds", ("both torques", "each torque"), "both torques", setting="p_max",
+              mapping={"both torques": cl["p_max"], "each torque": float(np.sqrt(2) * cl["p_max"])},
+              why="the 2-norm of the two SADM torques, or each torque (their 2-norm then up to sqrt(2) p_max)"),
+        Lever("disturbance", "SADM torques act", tuple(spacecraft.DISTURBANCES), "sadm", model="disturbance",
+              why="between the hub and each panel (a drive's internal torque), or on the hub alone"),
+        Lever("pma_layout", "PMA layout", tuple(spacecraft.PMA_LAYOUTS), "couples", model="pma_layout",
+              why="two couples (x and y at N17 and at N20), or all four PMAs at one node"),
+        Lever("pma_r_og", "PMA casing centre of mass", ("offset", "on the node"), "offset", model="pma_r_og",
+              mapping={"offset": list(p["pma"]["r_og"]), "on the node": [0.0, 0.0, 0.0]},
+              why="r_OG of the paper's PMA table (5 cm off the node), or at the node"),
     ]
     return {lv.name: lv for lv in out}
 
@@ -188,8 +202,12 @@ def preset_case(name: str, params: dict | None = None) -> dict[str, Any]:
                            if not k.startswith("_")}}
     case: dict[str, Any] = {}
     used: set[str] = set()
-    for lever in levers(params).values():
+    table = levers(params)
+    plain = {lv.setting or lv.model for lv in table.values() if not lv.mapping}
+    for lever in table.values():
         target = lever.setting or lever.model
+        if lever.mapping and target in plain:  # a named reading of an input another lever sets by value (u_convention)
+            continue
         if target in entries and all(model.get(k) == v for k, v in lever.fixed.items()):
             used |= {target, *lever.fixed}
             if entries[target] != lever.default or lever.fixed:
@@ -264,7 +282,8 @@ def evaluate_case(h: float, changes: Mapping[str, Any], params: dict, settings: 
     Returns
     -------
     dict
-        The open loop's ``open_loop_J_c``, ``open_loop_omega`` [rad/s] and ``open_loop_theta_deg``, and with ``robust``
+        The open loop's ``open_loop_J_c``, ``open_loop_omega`` [rad/s] and ``open_loop_theta_deg``, the PMAs' authority share
+        there (``open_loop_share``, :func:`trusscodesign.authority.authority_share` at the passive worst case), and with ``robust``
         the design's record (:func:`trusscodesign.design.design_record`: ``J_c``, ``Z_c``, the critical frequencies and
         panel angles, ``gain``, ...); ``time_s``.
     """
@@ -274,8 +293,10 @@ def evaluate_case(h: float, changes: Mapping[str, Any], params: dict, settings: 
     settings_only = all(table[name].setting for name in changes)
     m = models if models is not None and settings_only else design.models_at(h, params=p)
     ol = design.open_loop_worst_case(m, s)
+    plant = synthesis.plant_at(m.g_r, ol.scenario["rpe"], m.inertia, s)
     row: dict[str, Any] = {"open_loop_J_c": ol.value["rpe"], "open_loop_omega": ol.omega["rpe"],
-                           "open_loop_theta_deg": float(np.rad2deg(ol.scenario["rpe"].theta))}
+                           "open_loop_theta_deg": float(np.rad2deg(ol.scenario["rpe"].theta)),
+                           "open_loop_share": float(authority.authority_share(plant, [ol.omega["rpe"]])[0])}
     if robust:
         row.update(design.design_record(design.robust_design(m, s, restarts=restarts, workers=workers)))
     row["time_s"] = time.perf_counter() - t0

@@ -23,6 +23,7 @@ from typing import cast
 
 import control as ct
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import bodies, frames, paths
 from .checks import check_panel_angles
@@ -32,7 +33,7 @@ from .reduction import modal_reduction, static_gain
 from .titop import DAMPING_MODELS, Section
 from .truss import t_truss, truss_members, truss_nodes
 
-__all__ = ["MODEL", "STATED", "study_parameters", "load_parameters", "parameters_fingerprint", "inputs_key", "LOOP_CHOICES", "model_inputs", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
+__all__ = ["MODEL", "STATED", "study_parameters", "DISTURBANCES", "PMA_LAYOUTS", "load_parameters", "parameters_fingerprint", "inputs_key", "LOOP_CHOICES", "model_inputs", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset", "preset_parameters"]
 
 INPUTS = ["p_SP1", "p_SP2"] + [f"W_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")] + [f"u_PMA{i}" for i in range(1, 5)]
@@ -324,6 +325,8 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     out_names = ([f"a_{ant['node']}_Rx", f"a_{ant['node']}_Ry"] + [f"x_PMA{i}" for i in range(1, 5)] + [f"a_P1_{c}" for c in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
                  + [f"a_{n}_{c}" for n in ("N17", "N20") for c in ("Tx", "Ty", "Rx", "Ry")])
     lft = model.to_lft(in_names, out_names)
+    if ch.get("disturbance", "sadm") == "hub":  # a reading of the paper (notebook 06c): the torques on the hub alone
+        lft = _torques_on_hub(lft)
     nd = lft.n_delta
     g = lft.to_ss(INPUTS, OUTPUTS, name="G")
     blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
@@ -334,6 +337,25 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     if uncertain:
         values.update(theta=None, hub_mass=None, hub_iyy=None, panel_omega1=None)
     return OpenLoop(g, model, blocks, values, lft if (uncertain or tunable) else None)
+
+
+def _torques_on_hub(lft: LFT) -> LFT:
+    """The model with the SADM torque inputs ``p_SP1``, ``p_SP2`` applied to the hub alone, about x at P1 (the drive axis,
+    the column of ``W_P1_Rx``), instead of between the hub and each panel."""
+    nd = len(lft.blocks)
+    b, d = lft.b.copy(), lft.d.copy()
+    hub = nd + INPUTS.index("W_P1_Rx")
+    for name in ("p_SP1", "p_SP2"):
+        b[:, nd + INPUTS.index(name)], d[:, nd + INPUTS.index(name)] = b[:, hub], d[:, hub]
+    return LFT(lft.a, b, lft.c, d, lft.blocks, lft.params)
+
+
+DISTURBANCES = ("sadm", "hub")  # where the SADM torques act: between the hub and each panel (the model), or on the hub alone
+PMA_LAYOUTS = {  # readings of the paper's "two couples acting in the same direction at N17 and N20"
+    "couples": [("N17", "x"), ("N17", "y"), ("N20", "x"), ("N20", "y")],
+    "all at N17": [("N17", "x"), ("N17", "y"), ("N17", "x"), ("N17", "y")],
+    "all at N20": [("N20", "x"), ("N20", "y"), ("N20", "x"), ("N20", "y")],
+}
 
 
 def reduced_uncertain_model(h: float, omega_max: float | None = 500.0, omega_min: float = 0.01, params: dict | None = None) -> LFT:
@@ -384,7 +406,8 @@ def inertia_at_p1(model: LFT) -> np.ndarray:
 
 def with_choices(params: dict | None = None, sadm_stiffness: float | None = None, sadm_friction: float | None = None,
                  truss_damping: float | None = None, antenna_node: str | None = None, panel_turn_z_deg: dict | None = None,
-                 truss_damping_model: str | None = None) -> dict:
+                 truss_damping_model: str | None = None, disturbance: str | None = None, pma_layout: str | None = None,
+                 pma_r_og: ArrayLike | None = None) -> dict:
     """A copy of the parameters with some of the paper's unpublished choices changed (for sensitivity studies).
 
     Parameters
@@ -401,6 +424,13 @@ def with_choices(params: dict | None = None, sadm_stiffness: float | None = None
     panel_turn_z_deg : dict, optional
         ``{"SP1": deg, "SP2": deg}``: turn of each panel frame about z before the panel angle rotation about x
         (default +90 / -90: the panels' long axes along the rotation axis; 0 / 0 is the literal ``R_x(theta)``).
+    disturbance : {"sadm", "hub"}, optional
+        Where the SADM torques ``p`` act: between the hub and each panel (the default, the drive's internal torque) or on
+        the hub alone (:data:`DISTURBANCES`).
+    pma_layout : str, optional
+        A named layout of :data:`PMA_LAYOUTS` (default: ``choices.pma_layout``, which is ``"couples"``).
+    pma_r_og : array_like (3,), optional
+        The PMA casing's centre of mass in the PMA frame [m] (default ``pma.r_og``, 5 cm off the node).
     """
     import copy
 
@@ -425,6 +455,19 @@ def with_choices(params: dict | None = None, sadm_stiffness: float | None = None
         if antenna_node not in ("N17", "N20"):
             raise ValueError(f"antenna_node must be 'N17' or 'N20' (the truss ports), got {antenna_node!r}")
         p["antenna"]["node"] = antenna_node
+    if disturbance is not None:
+        if disturbance not in DISTURBANCES:
+            raise ValueError(f"disturbance must be one of {list(DISTURBANCES)}, got {disturbance!r}")
+        ch["disturbance"] = disturbance
+    if pma_layout is not None:
+        if pma_layout not in PMA_LAYOUTS:
+            raise ValueError(f"pma_layout must be one of {list(PMA_LAYOUTS)}, got {pma_layout!r}")
+        ch["pma_layout"] = [{"node": n, "direction": d} for n, d in PMA_LAYOUTS[pma_layout]]
+    if pma_r_og is not None:
+        r = np.asarray(pma_r_og, dtype=float)
+        if r.shape != (3,) or not np.all(np.isfinite(r)):
+            raise ValueError(f"pma_r_og must be a finite 3-vector [m], got {pma_r_og!r}")
+        p["pma"]["r_og"] = r.tolist()
     if panel_turn_z_deg is not None:
         if set(panel_turn_z_deg) != {"SP1", "SP2"}:
             raise ValueError(f"panel_turn_z_deg needs the keys 'SP1' and 'SP2', got {sorted(panel_turn_z_deg)}")

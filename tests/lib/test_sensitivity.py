@@ -148,3 +148,17 @@ def test_a_preset_entry_no_lever_sets_is_refused(monkeypatch):
     monkeypatch.setattr(spacecraft, "load_preset", lambda name: {"model": {"antenna_node": "N17", "hub_mass": 5.0}})
     with pytest.raises(ValueError, match=r"preset 'x': no lever sets its entries \['hub_mass'\]"):
         sensitivity.preset_case("x")
+
+
+def test_the_conventions_read_the_bounds_and_the_preset_keeps_its_plain_levers(params) -> None:
+    """u read as a proof-mass acceleration bounds the force at m u_max (0.1 kg x 15 = 1.5 N); p_max bounding each torque
+    lets their 2-norm reach sqrt(2) p_max; a preset that sets u_max is read by the u_max lever, not the convention's."""
+    settings = LoopSettings.from_parameters(params)
+    table = sensitivity.levers(params)
+    _, s = sensitivity.case_inputs(table["u_convention"], "proof-mass acceleration", params, settings)
+    assert s.u_max == pytest.approx(1.5)
+    _, s = sensitivity.case_inputs(table["p_max_convention"], "each torque", params, settings)
+    assert s.p_max == pytest.approx(0.382 * np.sqrt(2))
+    assert sensitivity.preset_case("paper_calibrated", params)["u_max"] == 0.1
+    with pytest.raises(ValueError, match="levers u_max and u_convention both set u_max"):
+        sensitivity.combined_inputs({"u_max": 1.0, "u_convention": "force"}, params, settings)

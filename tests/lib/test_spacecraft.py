@@ -275,3 +275,23 @@ def test_study_parameters_are_the_stated_values_or_a_presets():
     assert spacecraft.study_parameters("paper_calibrated") == spacecraft.preset_parameters("paper_calibrated")
     with pytest.raises(ValueError, match="unknown preset 'calibrated'.*or 'stated' for the paper's stated values"):
         spacecraft.study_parameters("calibrated")
+
+
+def test_the_readings_of_the_disturbance_and_of_the_pma_layout() -> None:
+    """disturbance="hub": the SADM torque inputs of G are the hub's torque about x at P1 (both columns); a named PMA layout
+    sets choices.pma_layout; a bad name is refused naming the allowed ones."""
+    base = spacecraft.load_parameters()
+    g = spacecraft.open_loop(0.02139, theta=0.3, params=spacecraft.with_choices(base, disturbance="hub")).G
+    hub = spacecraft.INPUTS.index("W_P1_Rx")
+    for name in ("p_SP1", "p_SP2"):
+        j = spacecraft.INPUTS.index(name)
+        assert np.array_equal(g.B[:, j], g.B[:, hub]) and np.array_equal(g.D[:, j], g.D[:, hub])
+    g0 = spacecraft.open_loop(0.02139, theta=0.3, params=base).G
+    assert not np.allclose(g0.B[:, 0], g0.B[:, hub])
+    p = spacecraft.with_choices(base, pma_layout="all at N17", pma_r_og=[0.0, 0.0, 0.0])
+    assert [x["node"] for x in p["choices"]["pma_layout"]] == ["N17"] * 4 and p["pma"]["r_og"] == [0.0, 0.0, 0.0]
+    assert spacecraft.with_choices(base, pma_layout="couples")["choices"]["pma_layout"] == base["choices"]["pma_layout"]
+    with pytest.raises(ValueError, match=r"disturbance must be one of \['sadm', 'hub'\]"):
+        spacecraft.with_choices(base, disturbance="panel")
+    with pytest.raises(ValueError, match="pma_layout must be one of"):
+        spacecraft.with_choices(base, pma_layout="N17")
