@@ -9,7 +9,8 @@ modal reduction), ``modal`` (participation factors, models from modal data), ``a
 (direct constrained assembly), ``frame_fe`` and ``opensees_fe`` (finite-element references),
 ``closedloop`` (the pointing study's generalized plant), ``hinf`` (exact H-infinity norms), ``mu`` and
 ``mu_interval`` (worst-case gain bounds, pointwise and certified over frequency intervals), ``synthesis``,
-``modalloop`` and ``modalpool`` (robust structured synthesis of the PMA gain; the fast path, on worker processes), ``design``,
+``modalloop`` and ``modalpool`` (robust structured synthesis of the PMA gain; the fast path, on worker processes),
+``authority`` (the share of the PMA bound needed to cancel the disturbance), ``design``,
 ``sensitivity`` (the two-sided sensitivity study of notebook 06), ``robustness`` (mu sweep over the panel
 angle), ``pso`` and ``codesign`` (the particle-swarm co-design), ``timedomain`` (worst-case sinusoid from rest),
 ``checks``, ``paths``, ``plotting``, ``results``.
