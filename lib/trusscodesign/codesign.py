@@ -34,7 +34,7 @@ from .results import normalise_key, read_keyed, run_lock, write_json
 from .synthesis import Scenario
 
 __all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
-           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
+           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "on_resolution", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
 H_M0 = 0.03  # m, the section side of the paper's reference truss, whose mass is m0 (whatever the design range)
@@ -466,8 +466,9 @@ def evaluation_key(settings: LoopSettings | None, params: dict | None, m0: float
             "options": _normalised_options(synthesis_options), "algorithm": synthesis.ALGORITHM}
 
 
-def _on_resolution(h: float, resolution: float | None, h_range: Sequence[float]) -> float:
-    """``h`` [m] rounded to the nearest multiple of ``resolution`` [m] (None: unchanged), kept in ``h_range``."""
+def on_resolution(h: float, resolution: float | None, h_range: Sequence[float]) -> float:
+    """``h`` [m] rounded to the nearest multiple of ``resolution`` [m] (None: unchanged), kept in ``h_range``: where the
+    swarm evaluates a position, and where a grid sharing its evaluations must put its points (the same float)."""
     if resolution is None:
         return float(h)
     return float(np.clip(round(round(h / resolution) * resolution, 12), h_range[0], h_range[1]))
@@ -800,7 +801,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
                 part = None if checkpoint is None else partial_path(checkpoint)
                 key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
                        "objective": objective, "options": synthesis_options}
-            recs = evaluate_swarm([_on_resolution(float(v[0]), h_resolution, h_range) for v in x], gain0, client, settings,
+            recs = evaluate_swarm([on_resolution(float(v[0]), h_resolution, h_range) for v in x], gain0, client, settings,
                                   params, m0, fails, progress, synthesis_options=synthesis_options, scenarios0=scen0,
                                   partial=part, partial_key=key, truss_tolerance=truss_tolerance)
             ok = [r for r in recs if r["gain"] is not None and not str(r.get("status", "")).startswith("failed")]

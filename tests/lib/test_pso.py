@@ -963,3 +963,13 @@ def test_evaluation_counts_of_a_cold_and_of_a_warm_started_swarm():
     assert codesign.evaluation_counts(hist) == dict(particles=5, distinct=4, shared=1, failed=2, failed_particles=2)
     with pytest.raises(ValueError, match="start must be one of"):
         codesign.evaluation_counts(hist, "warm")
+
+
+def test_on_resolution_gives_the_floats_a_swarm_and_a_grid_share():
+    """A grid point and a swarm position at the same multiple of the resolution are the same float (the key of a shared
+    evaluation), whatever the arithmetic that produced them; the range's ends are kept."""
+    grid = [codesign.on_resolution(h, 1e-4, (0.015, 0.03)) for h in np.linspace(0.015, 0.03, 31)]
+    assert grid[1] == 0.0155 and grid[-1] == 0.03 and all(repr(h) == repr(round(h, 12)) for h in grid)
+    assert codesign.on_resolution(0.0155 + 3e-6, 1e-4, (0.015, 0.03)) == grid[1]
+    assert codesign.on_resolution(0.01826, 1e-4, (0.0183, 0.03)) == 0.0183  # kept in the range
+    assert codesign.on_resolution(0.0212345, None, (0.015, 0.03)) == 0.0212345
