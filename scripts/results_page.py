@@ -649,6 +649,32 @@ particles sit at the lower bound {first}.
 """
 
 
+def designs_table(r: dict, pap: dict, p: dict) -> str:
+    """Notebook 08's paper-layout table on each spacecraft (the design at the paper's h and the co-design optimum), with
+    what each upper bound covers; empty for results stored before it existed."""
+    designs = r.get("table_designs") or {}
+    if not designs:
+        return ""
+    rows = []
+    for label, x in designs.items():
+        for transfer, t in x["table"].items():
+            cert = t.get("certified upper (all freq.)")
+            rows.append([label, transfer, f"{t['sup upper']:.4f}", "-" if cert is None or cert != cert else f"{cert:.4f} at {t['at theta [deg]']:.1f} deg",
+                         f"{t['inf lower (max over angles)']:.4f}", f"{t['critical freq [rad/s]']:.1f}", f"{t['critical theta [deg]']:.1f}"])
+    for transfer in ("p~ -> RPE", "p~ -> W~u"):
+        t = pap[f"{transfer} (paper)"]
+        rows.append(["paper: its design at 2.139 cm", transfer, f"{t['sup upper']:.4f}", "-", f"{t['inf lower (max over angles)']:.4f}",
+                     f"{t['critical freq [rad/s]']:.1f}", f"{t['critical theta [deg]']:.1f}"])
+    return f"""**The paper's table on both spacecraft.** The paper's recipe at h = {cm(r.get('h_paper', 0.02139))} cm (notebook 06b's design)
+and the co-design optimum (notebook 07's), each on the spacecraft it was made for, swept over the same {p['n_tau']} panel
+angles. The grid's upper bound holds at the frequencies evaluated at each of those angles; the certified one at every
+frequency, at the angle given (the angle of the largest grid bound); between the angles no bound is claimed:
+
+{table(['design', 'transfer', 'mu upper (grid)', 'certified upper', 'mu lower', 'frequency', 'panel angle'], rows)}
+
+"""
+
+
 def nb08(d: dict) -> str:
     p, r, s = d["08"]["parameters"], d["08"]["results"], d["06"]["results"]["settings"]
     opt7 = d["07"]["results"]["optimum"]
@@ -696,6 +722,7 @@ The synthesis model `G_r` reported J_c = {on_gr:.4f} for this design (at
 {tab['p~ -> RPE']['critical freq [rad/s]']:.0f} rad/s (damping {sci(td['rpe']['pole_damping'])}). The co-design
 optimised `G_r`'s J_c ({opt7['J_c']:.4f}); this table's is the one to quote.
 
+{designs_table(r, pap, p)}
 **The same gain on a shifted truss** (beyond the paper; every truss frequency moved with the section side):
 
 {table(['shift [%]', 'h [cm]', 'J_c', 'Z_c', 'unstable box points'], shift)}

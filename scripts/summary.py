@@ -39,6 +39,20 @@ def _how(parameters: dict) -> str:
             + {"minmax": "min-max", "least_change": "least-change"}[parameters.get("restoration", "minmax")] + " restoration")
 
 
+def by_preset(r8: dict) -> dict[str, list[tuple[dict, float]]]:
+    """Notebook 08's paper-layout designs by spacecraft, the design at the paper's h first: ``{preset: [(design, h)]}``."""
+    out: dict[str, list[tuple[dict, float]]] = {}
+    for x in sorted((r8.get("table_designs") or {}).values(), key=lambda x: x["kind"] != "paper_h"):
+        out.setdefault(x["preset"], []).append((x, x["h"]))
+    return out
+
+
+def certified(t: dict) -> str:
+    """A table row's certified upper bound, or the grid's marked as such where that transfer was not certified."""
+    c = t.get("certified upper (all freq.)")
+    return f"{t['sup upper']:.4f} (grid only)" if c is None or c != c else f"{c:.4f}"
+
+
 def rows(root: Path) -> list[tuple[str, str, str, str]]:
     """``(quantity, paper, this toolkit, notebook)`` rows of the summary."""
     r3, r4, r5 = _load(root, "03_cube_vs_nastran"), _load(root, "04_t_truss_spacecraft"), _load(root, "05_lft_reduction")
@@ -116,6 +130,12 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
         ("Upper bound certified over all frequencies at the critical panel angle (section 4b): RPE / effort", "-",
          " / ".join(f"{c['certified_upper']:.4f} ({c['theta_deg']:.0f} deg, {'covered' if c['covered'] else 'NOT covered'}, "
                     f"{c['points']} points)" for c in (r8["certification"]["rpe"], r8["certification"]["effort"])), "08"),
+        *[(f"Worst case on `{name}`, the paper's recipe at {100 * r8.get('h_paper', 0.02139):.3f} cm / the co-design optimum "
+           f"({', '.join(f'{100 * x[1]:.3f} cm' for x in designs)}): p~ -> RPE mu upper certified at its critical angle / lower; "
+           "p~ -> W~u the same", f"{paper['p~ -> RPE (paper)']['sup upper']:.4f} / {paper['p~ -> RPE (paper)']['inf lower (max over angles)']:.4f}; "
+           f"{paper['p~ -> W~u (paper)']['sup upper']:.4f} / {paper['p~ -> W~u (paper)']['inf lower (max over angles)']:.4f} (its design at 2.139 cm)",
+           " / ".join("; ".join(f"{certified(t)} / {t['inf lower (max over angles)']:.4f}" for t in x[0]["table"].values()) for x in designs),
+           "08") for name, designs in by_preset(r8).items() if name == r7["headline"]],
         ("Those worst cases in time: SADM torques of 2-norm p_max at the critical frequency, from rest: largest steady "
          "RPE / PMA force (bound), envelope time constants", "-",
          f"{max(td['rpe']['steady_amplitudes']):.2f} µrad ({1e6 * st['eps_max']:g}) / "

@@ -42,6 +42,7 @@ CASES = [  # (notebook, bad parameters, what the message must say)
     ("08_worst_case_mu", {"certify_groups": ["RPE"]}, r"certify_groups entries must be one of ['rpe', 'effort'], got 'RPE'"),
     ("08_worst_case_mu", {"samples_per_period": 4}, r"samples_per_period must be an integer in [8, inf), got 4"),
     ("08_worst_case_mu", {"h_shifts": [2.0]}, r"h_shifts[0] must be a number in [-0.5, 0.5] (relative), got 2.0"),
+    ("08_worst_case_mu", {"table_presets": ["calibrated"]}, r"unknown preset 'calibrated'"),
 ]
 
 

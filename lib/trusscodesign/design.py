@@ -30,7 +30,7 @@ from .lft import LFT
 from .checks import check_option
 from .synthesis import NOT_STABILISED, Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "stored_preset", "truss_shift_check",
+__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "stored_preset", "TABLE_DESIGNS", "table_design", "truss_shift_check",
            "truss_variants"]
 
 
@@ -410,6 +410,66 @@ def stored_preset(source: str | int = "auto", results_dir: str = "data/results")
         raise ValueError(f"notebook 07's optimum was made for the preset {preset!r} as it was then, not as it is now "
                          "(its parameters' fingerprint differs): rerun notebook 07")
     return preset
+
+
+TABLE_DESIGNS = ("paper_h", "optimum")  # the designs of notebook 08's table on one spacecraft (:func:`table_design`)
+
+
+def table_design(preset: str, kind: str, results_dir: str = "data/results", h_paper: float = 0.02139) -> tuple[float, NDArray]:
+    """A stored design on the spacecraft of ``preset`` (``"stated"`` or a preset name): ``(h [m], gain (4, 8))``.
+
+    ``kind``: ``"paper_h"``, the paper's recipe at ``h_paper`` [m] (the design of the paper's mu table; notebook 06b's
+    ``tolerance`` entry, made with ``tolerance_presets`` holding ``preset`` and ``h_values`` holding ``h_paper``), or
+    ``"optimum"``, notebook 07's co-design optimum on that spacecraft (its run ``runs[preset]``).
+
+    Raises
+    ------
+    ValueError
+        For another ``kind``, if the notebook stored no such design or a failed one, or if the design was made with other
+        spacecraft parameters than ``preset``'s today (an edited parameters or preset file), naming what to rerun.
+    FileNotFoundError
+        If the results file of that notebook is missing.
+    """
+    if kind not in TABLE_DESIGNS:
+        raise ValueError(f"kind must be one of {TABLE_DESIGNS}, got {kind!r}")
+    params = spacecraft.study_parameters(preset)  # (an unknown preset: a ValueError naming the presets)
+    now = spacecraft.inputs_key(params)
+    if kind == "optimum":
+        stored = results.load_results("07_pso_codesign", results_dir)
+        path = results.resolve(results_dir, create=False) / "07_pso_codesign.json"
+        runs = _field(stored, ("results", "runs"), path)
+        if preset not in runs:
+            raise ValueError(f"notebook 07 stored no co-design on {preset!r} (it has {sorted(runs)}): rerun it with preset = {preset!r}")
+        run = runs[preset]
+        _check_inputs(stored, "notebook 07's runs", "07")  # the stated parameters and the model
+        made = run.get("parameters_sha256", spacecraft.parameters_fingerprint(spacecraft.load_parameters()))
+        if made != now["spacecraft_parameters"]:
+            raise ValueError(f"notebook 07's optimum on {preset!r} was made with other parameters than the preset's today: rerun notebook 07")
+        best = run.get("optimum") or {}
+        if best.get("status", "ok") != "ok":
+            raise ValueError(f"notebook 07's optimum on {preset!r} is not a valid design ({best.get('status')}): rerun notebook 07")
+        return _checked_design(best.get("h"), best.get("gain"), f"notebook 07's optimum on {preset!r}")
+    stored = results.load_results("06b_calibration_tolerance", results_dir)
+    path = results.resolve(results_dir, create=False) / "06b_calibration_tolerance.json"
+    entries = _field(stored, ("results", "tolerance"), path)
+    key = f"{preset}|{100 * h_paper:.3f}"
+    if key not in entries:
+        raise ValueError(f"notebook 06b stored no design at {100 * h_paper:.3f} cm on {preset!r} (it has {sorted(entries)}): rerun it "
+                         f"with {preset!r} in tolerance_presets and {h_paper} in h_values")
+    if preset == spacecraft.STATED:
+        made = stored.get("inputs")
+    else:  # 06b records the parameters of the preset it calibrates
+        info = _field(stored, ("results", "preset"), path)
+        if info.get("name") != preset:
+            raise ValueError(f"notebook 06b's designs on {preset!r} cannot be checked against the preset's file (its run calibrated "
+                             f"{info.get('name')!r}): rerun notebook 06b with preset = {preset!r}")
+        made = info.get("inputs")
+    if made != now:
+        raise ValueError(f"notebook 06b's design on {preset!r} was made with other parameters or another model than today's: rerun notebook 06b")
+    recipe = _field(entries, (key, "recipe"), path)
+    if recipe.get("success") is False:
+        raise ValueError(f"notebook 06b's recipe at {100 * h_paper:.3f} cm on {preset!r} failed ({recipe.get('message')}): not a design to analyse")
+    return _checked_design(float(h_paper), recipe.get("gain"), f"notebook 06b's recipe at {100 * h_paper:.3f} cm on {preset!r}")
 
 
 def _field(payload: dict, keys: tuple[str, ...], path: object) -> Any:

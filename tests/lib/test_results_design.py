@@ -345,3 +345,40 @@ def test_stored_preset_names_the_parameters_of_the_stored_optimum(tmp_path: path
                          tmp_path, inputs=INPUTS)
     with pytest.raises(ValueError, match="made for the preset 'paper_calibrated' as it was then"):
         design.stored_preset("auto", str(tmp_path))
+
+
+def test_table_design_reads_each_preset_s_design_and_refuses_what_it_cannot_vouch_for(tmp_path: pathlib.Path) -> None:
+    """Notebook 08's table designs: the paper's recipe at 2.139 cm from notebook 06b's entry of that preset, and notebook
+    07's optimum of that preset's run; each refused, naming what to rerun, when it is missing, failed, or was made with
+    other parameters than the preset's today."""
+    calibrated = spacecraft.inputs_key(spacecraft.study_parameters("paper_calibrated"))
+    gain = np.arange(32.0).reshape(4, 8)
+    entries = {"stated|2.139": {"recipe": {"success": True, "gain": gain}},
+               "paper_calibrated|2.139": {"recipe": {"success": True, "gain": -gain}}}
+    results.save_results("06b_calibration_tolerance", {"tolerance": entries, "preset": {"name": "paper_calibrated", "inputs": calibrated}},
+                         tmp_path, inputs=INPUTS)
+    for preset, sign in (("stated", 1.0), ("paper_calibrated", -1.0)):
+        h, k = design.table_design(preset, "paper_h", str(tmp_path))
+        assert h == 0.02139 and np.array_equal(k, sign * gain)
+    with pytest.raises(ValueError, match="no design at 3.000 cm on 'stated'.*h_values"):
+        design.table_design("stated", "paper_h", str(tmp_path), h_paper=0.03)
+    with pytest.raises(ValueError, match="kind must be one of"):
+        design.table_design("stated", "best", str(tmp_path))
+    results.save_results("06b_calibration_tolerance", {"tolerance": entries, "preset": {"name": "paper_calibrated", "inputs": INPUTS}},
+                         tmp_path, inputs=INPUTS)
+    with pytest.raises(ValueError, match="other parameters or another model than today's: rerun notebook 06b"):
+        design.table_design("paper_calibrated", "paper_h", str(tmp_path))
+    digest = calibrated["spacecraft_parameters"]
+    opt = {"h": 0.0221, "gain": gain, "status": "ok"}
+    runs = {"paper_calibrated": {"optimum": opt, "parameters_sha256": digest}, "stated": {"optimum": {**opt, "h": 0.015}}}
+    results.save_results("07_pso_codesign", {"runs": runs}, tmp_path, inputs=INPUTS)
+    assert design.table_design("paper_calibrated", "optimum", str(tmp_path))[0] == 0.0221
+    assert design.table_design("stated", "optimum", str(tmp_path))[0] == 0.015
+    results.save_results("07_pso_codesign", {"runs": {"paper_calibrated": {"optimum": opt}}}, tmp_path, inputs=INPUTS)
+    with pytest.raises(ValueError, match="other parameters than the preset's today: rerun notebook 07"):
+        design.table_design("paper_calibrated", "optimum", str(tmp_path))
+    with pytest.raises(ValueError, match="no co-design on 'stated'"):
+        design.table_design("stated", "optimum", str(tmp_path))
+    results.save_results("07_pso_codesign", {"runs": {"stated": {"optimum": {**opt, "status": "penalised: Z_c > 1"}}}}, tmp_path, inputs=INPUTS)
+    with pytest.raises(ValueError, match="not a valid design"):
+        design.table_design("stated", "optimum", str(tmp_path))

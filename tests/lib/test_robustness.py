@@ -266,26 +266,6 @@ def test_bounds_bracket_random_one_mode_worst_cases(monkeypatch):
         assert exact * (1 - 1e-6) <= b.lower <= exact * (1 + 1e-9) and b.upper >= exact * (1 - 1e-6), (w0, zeta, alpha)
 
 
-@pytest.mark.xfail(strict=True, reason="known limitation: an interior worst case where Delta moves one mode onto another "
-                   "(coalescence) is missed by both bounds of bounds_at_angle, whose upper bound is a maximum over the evaluated "
-                   "frequencies only (certify_at_angle's bound is not: test below)")
-def test_known_limitation_two_modes_brought_together_by_an_interior_delta(monkeypatch):
-    """Two modes on one output, 7.48 and 7.00 rad/s (damping 1.1e-4 and 4.6e-4); Delta moves the first one's stiffness
-    by -15.7 % ... +15.7 %. At delta = 0.78 it falls onto the second mode and the peaks add: exact H-infinity norm 4321
-    (Hamiltonian method, brute force over 201 deltas), 12 % above the corners' 3852, which both bounds report (measured
-    2026-12-03; one case in 120 random two- and three-mode problems). The ridge pass (which follows the first mode from
-    the corner delta = 1) does not reach it either: the peaks add only within about 0.005 of delta = 0.78, and on the way
-    from the corner the gain first falls (3818 at 0.9, 3752 at 0.7), so a local search stays at the corner."""
-    from trusscodesign.hinf import hinf_norm
-
-    plant = _modes_plant([(7.4814231501324615, 0.00011353198378048266, 0.8028104869398454),
-                          (7.0041958791399255, 0.00045652380990309643, 0.8307429627427234)], [], alpha=-0.15744413656668402)
-    brute = max(hinf_norm(plant.a + dl * np.outer(plant.b[:, 0], plant.c[0]), plant.b[:, 1:2], plant.c[1:2],
-                          plant.d[1:2, 1:2]).norm for dl in np.linspace(0.7, 0.86, 17))
-    assert brute > 4300.0
-    assert _bounds(monkeypatch, plant).upper >= brute * (1 - 1e-6)
-
-
 @pytest.mark.parametrize("case", ["heavily damped pole nearby", "lighter pole nearby"])
 def test_a_corner_pole_near_a_nominal_pole_that_does_not_resolve_it_stays_on_the_grid(monkeypatch, case):
     """The worst corner of the one-mode problem above (w0 = 1, zeta = 1e-3, alpha = -0.2: exact 559.02) with, on the other
@@ -444,9 +424,15 @@ def test_pole_near_matches_the_closed_state_matrix_with_feedthrough_and_repeated
 
 
 def test_certified_upper_bound_closes_the_coalescence_case(monkeypatch):
-    """The known limitation above, where both bounds of bounds_at_angle stop 12 % below the exact worst case: the upper
-    bound certified over all frequencies (certify_at_angle, from the same grid) is above the brute force, as an upper
-    bound must be, and within its slack and the D-G conservatism of it."""
+    """A known limitation of bounds_at_angle, closed by the certified bound. Two modes on one output, 7.48 and 7.00 rad/s
+    (damping 1.1e-4 and 4.6e-4); Delta moves the first one's stiffness by -15.7 % ... +15.7 %. At delta = 0.78 it falls
+    onto the second mode and the peaks add: exact H-infinity norm 4321 (Hamiltonian method, brute force over the deltas),
+    12 % above the corners' 3852, which both bounds of bounds_at_angle report, their upper bound being a maximum over
+    the evaluated frequencies only (one case in 120 random two- and three-mode problems). The ridge pass (which follows
+    the first mode from the corner delta = 1) does not reach it either: the peaks add only within about 0.005 of
+    delta = 0.78, and on the way from the corner the gain first falls (3818 at 0.9, 3752 at 0.7). The upper bound
+    certified over all frequencies (certify_at_angle, from the same grid) is above the brute force, as an upper bound
+    must be, and within its slack and the D-G conservatism of it."""
     from trusscodesign.hinf import hinf_norm
 
     plant = _modes_plant([(7.4814231501324615, 0.00011353198378048266, 0.8028104869398454),
@@ -454,14 +440,19 @@ def test_certified_upper_bound_closes_the_coalescence_case(monkeypatch):
     brute = max(hinf_norm(plant.a + dl * np.outer(plant.b[:, 0], plant.c[0]), plant.b[:, 1:2], plant.c[1:2],
                           plant.d[1:2, 1:2]).norm for dl in np.linspace(0.7, 0.86, 161))
     grid = _bounds(monkeypatch, plant)
-    assert grid.upper < brute * 0.95  # the grid's bound misses it
+    assert brute > 4300.0 and grid.upper < brute * 0.95  # the grid's bound misses it
     model = type("Model", (), {"blocks": ["M_SC"]})()
-    cert = robustness.certify_at_angle(model, 0.0, np.zeros((4, 8)), np.eye(3), ST, "rpe", grid.omegas, slack=0.02)
-    print(f"\ncoalescence: grid upper {grid.upper:.1f}, brute force {brute:.1f}, certified {cert.gamma:.1f} "
-          f"({len(cert.omegas)} points)")
-    assert cert.covered and brute <= cert.gamma <= 1.1 * brute
+    # at the angle of the sweep's largest bound (here its only one), as notebook 08 certifies
+    analysed = robustness.Analysed(model, [{"rpe": grid}], np.zeros((4, 8)), np.eye(3), ST)
+    cert = robustness.certify_critical({"coalescence": analysed}, ["rpe"], slack=0.02)["coalescence"]["rpe"]
+    print(f"\ncoalescence: grid upper {grid.upper:.1f}, brute force {brute:.1f}, certified {cert['certified_upper']:.1f} "
+          f"({cert['points']} points)")
+    assert cert["covered"] and not cert["gaps"] and brute <= cert["certified_upper"] <= 1.1 * brute
+    assert cert["theta_deg"] == 0.0 and cert["grid_upper"] == grid.upper and cert["lower"] == grid.lower
     with pytest.raises(ValueError, match="group must be"):
         robustness.certify_at_angle(model, 0.0, np.zeros((4, 8)), np.eye(3), ST, "RPE", grid.omegas)
+    with pytest.raises(ValueError, match="groups must hold"):
+        robustness.certify_critical({"coalescence": analysed}, ["RPE"])
 
 
 def test_a_second_sweep_on_the_same_partial_file_stops_at_once_naming_the_first(tmp_path):
