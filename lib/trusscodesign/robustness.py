@@ -19,11 +19,12 @@ the closed loop ``P_i = F_l(F_u(G_r_low(h, tau_i), Delta_p), K_PMA)`` (all flexi
 
 Nothing is certified between the frequencies evaluated: an interior worst case that none of the passes reaches is
 missed by both bounds. Known cases: a parameter that brings one lightly damped mode onto another, within a sliver of
-the box (``tests/lib/test_robustness.py``: both stop 12 % below it, the certified bound below does not); a damping minimised inside the box on a mode other
-than the best point's (:func:`_ridge_lower`). :func:`certify_at_angle` closes that gap for the upper bound at one
-angle: it covers every frequency by intervals, each certified by one set of scalings (:mod:`trusscodesign.mu_interval`), at a
-cost of about two minutes per transfer and angle on the spacecraft, so notebook 08 applies it at the critical angles (:func:`certify_critical`): at the other angles of its sweep the
-upper bound holds at the evaluated frequencies, and between angles nothing is bounded.
+the box (``tests/lib/test_robustness.py``: both stop 12 % below it, the certified bound below does not); a damping
+minimised inside the box on a mode other than the best point's (:func:`_ridge_lower`). :func:`certify_at_angle` closes
+that gap for the upper bound at one angle: it covers every frequency by intervals, each certified by one set of scalings
+(:mod:`trusscodesign.mu_interval`), at a cost of about two minutes per transfer and angle on the spacecraft, so notebook
+08 applies it at the critical angles (:func:`certify_critical`): at the other angles of its sweep the upper bound holds
+at the evaluated frequencies, and between angles nothing is bounded.
 """
 
 from __future__ import annotations
