@@ -120,7 +120,7 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          "(panel angles)", "-", f"{sum(c['valid'] for c in head['check'])} / {len(head['check'])} ({head['check_angles']})", "07"),
         ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %): calibrated / stated", "-",
          f"{100 * head['pso_vs_grid']:+.2f} % / {100 * base['pso_vs_grid']:+.2f} %", "07"),
-        ("Co-design 24 x 20 on 2 cores: wall time, distinct evaluations (calibrated, tolerant / stated)", PAPER_CODESIGN_TIME,
+        ("Co-design 24 x 20 on 2 cores: the swarm's wall time, distinct evaluations (calibrated, tolerant / stated)", PAPER_CODESIGN_TIME,
          f"{head['run_time_s'] / 60:.0f} min, {head['counts']['distinct']} / {base['run_time_s'] / 60:.1f} min, "
          f"{base['counts']['distinct']}", "07"),
         ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
@@ -208,7 +208,8 @@ def glance(root: Path) -> str:
     text += (f" On it, with every design tolerant to ±{100 * head['truss_tolerance']:g} % of h, the co-design's optimum is "
              f"h = {100 * ho['h']:.3f} cm, {100 * (ho['mass'] / r7['m0_from_dc_kg'] - 1):+.1f} % of mass from m0, J_c = {ho['J_c']:.3f} "
              f"(paper: {p7['h_cm']} cm, {p7['reduction_percent']} %, {p7['J_c']}; the preset was chosen to match J_c there), valid "
-             f"at {valid_shifts} of {len(head['check'])} truss shifts.")
+             f"on {valid_shifts} of {len(head['check'])} trusses (its own and {len(head['check']) - 1} shifted within "
+             f"±{100 * head['truss_tolerance']:g} %).")
     r6c = _load(root, "06c_pma_authority")
     largest, cal_share = r6c["largest_defensible"], r6c["peak_share"]["paper_calibrated"]["share at the mode"]
     text += (" Read with the stated 15 N, " + ("a defensible reading of the paper reaches its outcomes (notebook 06c)." if r6c["paper_physical"] else

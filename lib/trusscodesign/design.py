@@ -439,7 +439,8 @@ def table_design(preset: str, kind: str, results_dir: str = "data/results", h_pa
         path = results.resolve(results_dir, create=False) / "07_pso_codesign.json"
         runs = _field(stored, ("results", "runs"), path)
         if preset not in runs:
-            raise ValueError(f"notebook 07 stored no co-design on {preset!r} (it has {sorted(runs)}): rerun it with preset = {preset!r}")
+            how = "run_baseline = True (its stated-values baseline)" if preset == spacecraft.STATED else f"preset = {preset!r}"
+            raise ValueError(f"notebook 07 stored no co-design on {preset!r} (it has {sorted(runs)}): rerun it with {how}")
         run = runs[preset]
         _check_inputs(stored, "notebook 07's runs", "07")  # the stated parameters and the model
         made = run.get("parameters_sha256", spacecraft.parameters_fingerprint(spacecraft.load_parameters()))
