@@ -703,7 +703,7 @@ def nb08(d: dict) -> str:
     td = r["time_domain"]
     own = next(x for x in r["truss_shift"] if x["shift [%]"] == 0)  # the design on its own truss
     on_gr = own["J_c"]
-    valid_shifts = [x["shift [%]"] for x in r["truss_shift"] if x["shift [%]"] != 0 and x["J_c"] == x["J_c"] and x["Z_c"] < 1]
+    valid_shifts = [x["shift [%]"] for x in r["truss_shift"] if x["shift [%]"] != 0 and math.isfinite(num(x["J_c"])) and num(x["Z_c"]) < 1]
     hidden = [g for g, c in cert.items() if c["largest_point_bound"] > c["grid_upper"] * (1 + 1e-9)]
     rpe_up = tab["p~ -> RPE"]["sup upper"]
     source = {"07": "notebook 07's optimum", "06": "notebook 06's design"}[r["design_source"]]

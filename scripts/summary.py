@@ -120,11 +120,11 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
          "(panel angles)", "-", f"{sum(c['valid'] for c in head['check'])} / {len(head['check'])} ({head['check_angles']})", "07"),
         ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %): calibrated / stated", "-",
          f"{100 * head['pso_vs_grid']:+.2f} % / {100 * base['pso_vs_grid']:+.2f} %", "07"),
-        ("Co-design 24 x 20 on 2 cores: the swarm's wall time, distinct evaluations (calibrated, tolerant / stated)", PAPER_CODESIGN_TIME,
+        ("Co-design 24 x 20 on 2 cores: the wall time of the swarm's iterations, distinct evaluations (calibrated, tolerant / stated)", PAPER_CODESIGN_TIME,
          f"{head['run_time_s'] / 60:.0f} min, {head['counts']['distinct']} / {base['run_time_s'] / 60:.1f} min, "
          f"{base['counts']['distinct']}", "07"),
         ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
-         mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']}, h = {100 * r8['h']:.3f} cm)", "08"),
+         mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']} on `{r8.get('preset', 'stated')}`, h = {100 * r8['h']:.3f} cm)", "08"),
         ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
          mu("p~ -> W~u", table), "08"),
         ("Upper bound certified over all frequencies at the critical panel angle (section 4b): RPE / effort", "-",
