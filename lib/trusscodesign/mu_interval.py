@@ -14,8 +14,8 @@ scalings, as in the frequency-interval mu methods (e.g. Ferreres and Biannic's):
   eigenvalues of the Hamiltonian-like matrix of ``Phi``'s zeros (:func:`crossing_frequencies`, order twice that
   of ``M``). The interval between the nearest such frequencies below and above ``w_i`` is certified:
   every ``w`` in it has ``Phi(jw) << 0``, hence a worst-case gain below ``gamma``;
-* the gaps left between intervals get new points (:func:`wc_gain_upper_certified`) until the requested range is
-  covered; ``gamma`` rises with a new point's own bound (intervals certified at a lower level stay certified at a
+* the gaps left between intervals get new points, one at a time in the lowest gap (:func:`wc_gain_upper_certified`),
+  until the requested range is covered; ``gamma`` rises with a new point's own bound (intervals certified at a lower level stay certified at a
   higher one, since ``Phi`` decreases as ``gamma`` grows).
 
 Written here because neither python-control nor any other maintained Python package computes worst-case gains with
@@ -45,7 +45,8 @@ class CertifiedUpper:
 
     ``covered``: whether the intervals cover the requested range (then ``gamma`` bounds the worst-case gain over all
     of it); ``gaps``: what they leave uncovered (empty when covered). ``omegas``, ``betas``: the points where the
-    LMI was solved and their pointwise bounds; ``intervals[i]`` is the interval certified from ``omegas[i]``.
+    LMI was solved and their pointwise bounds; ``intervals[i]`` is the interval certified from ``omegas[i]`` (empty,
+    ``(w, w)``, for a starting point already inside an earlier interval or where no scalings certify the level).
     """
 
     gamma: float
@@ -226,6 +227,11 @@ def _gaps(intervals: list[tuple[float, float]], lo: float, hi: float) -> list[tu
     return [(g0, g1) for g0, g1 in gaps if g1 > g0]
 
 
+def _inside(w: float, intervals: list[tuple[float, float]]) -> bool:
+    """Whether ``w`` lies in one of the (closed) intervals."""
+    return any(a <= w <= b for a, b in intervals)
+
+
 def _split_point(g0: float, g1: float) -> float:
     """A new point inside a gap: its geometric middle (arithmetic from 0, ten times its start towards infinity)."""
     if np.isinf(g1):
@@ -285,19 +291,23 @@ def wc_gain_upper_certified(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLi
     gamma = (1.0 + slack) * max(betas)
     if not np.isfinite(gamma):
         return CertifiedUpper(np.inf, False, np.array(points), np.array(betas), np.zeros((0, 2)), np.array([[lo, hi]]))
-    intervals = [certified_interval(a, b, c, d, sizes, w, gamma) for w in points]
+    # one interval at a time, each point skipped or placed where the intervals so far leave a gap: an interval often
+    # covers other starting points or other gaps (measured: 44 of 192 points wasted when a whole round was placed at once)
+    intervals = [(w, w) for w in points]
+    for i in np.argsort(betas)[::-1]:  # from the largest pointwise bound, whose interval is the widest at that level
+        if not _inside(points[i], intervals):
+            intervals[i] = certified_interval(a, b, c, d, sizes, points[i], gamma)
     gaps = _gaps(intervals, lo, hi)
     while gaps and len(points) < max_points:
-        for g0, g1 in gaps[: max_points - len(points)]:
-            w = _split_point(g0, g1)
-            beta = wc_gain_upper(m_at(w), blocks).beta
-            if not np.isfinite(beta):
-                return CertifiedUpper(np.inf, False, np.array(points + [w]), np.array(betas + [beta]),
-                                      np.array(intervals), np.array(_gaps(intervals, lo, hi)))
-            gamma = max(gamma, (1.0 + slack) * beta)
-            points.append(w)
-            betas.append(beta)
-            intervals.append(certified_interval(a, b, c, d, sizes, w, gamma))
+        w = _split_point(*gaps[0])
+        beta = wc_gain_upper(m_at(w), blocks).beta
+        if not np.isfinite(beta):
+            return CertifiedUpper(np.inf, False, np.array(points + [w]), np.array(betas + [beta]),
+                                  np.array(intervals), np.array(_gaps(intervals, lo, hi)))
+        gamma = max(gamma, (1.0 + slack) * beta)
+        points.append(w)
+        betas.append(beta)
+        intervals.append(certified_interval(a, b, c, d, sizes, w, gamma))
         gaps = _gaps(intervals, lo, hi)
     return CertifiedUpper(float(gamma), not gaps, np.array(points), np.array(betas), np.array(intervals),
                           np.array(gaps).reshape(-1, 2))

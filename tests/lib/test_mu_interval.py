@@ -56,6 +56,12 @@ def test_certified_bound_brackets_brute_force_over_all_frequencies(seed, sizes):
     # the intervals are those of the points, each containing its point, and together they cover [0, inf)
     assert len(cert.intervals) == len(cert.omegas) == len(cert.betas)
     assert np.all((cert.intervals[:, 0] <= cert.omegas) & (cert.omegas <= cert.intervals[:, 1]))
+    # no point spent where an interval already certifies: starting points inside earlier intervals are skipped (an
+    # empty interval), and each added point lies in a gap the earlier intervals left
+    n0 = len(omegas)
+    assert np.sum(cert.intervals[:n0, 0] == cert.intervals[:n0, 1]) > n0 // 2
+    for i in range(n0, len(cert.omegas)):
+        assert not np.any((cert.intervals[:i, 0] <= cert.omegas[i]) & (cert.omegas[i] <= cert.intervals[:i, 1]))
     print(f"\nseed {seed} {sizes}: certified {cert.gamma:.6g} with {len(cert.omegas)} points, lower {lower.gain:.6g}, "
           f"brute {bf:.6g}, grid upper {max(cert.betas[:len(omegas)]):.6g}")
 
