@@ -682,7 +682,9 @@ frequency, at the angle given (the angle of the largest grid bound); between the
 
 
 def nb08(d: dict) -> str:
-    p, r, s = d["08"]["parameters"], d["08"]["results"], d["06"]["results"]["settings"]
+    p, r = d["08"]["parameters"], d["08"]["results"]
+    # the bounds of the spacecraft analysed: notebook 07's run on that preset stores them (06's are the stated values)
+    s = d["07"]["results"]["runs"].get(r.get("preset", "stated"), {}).get("settings") or d["06"]["results"]["settings"]
     opt7 = d["07"]["results"]["optimum"]
     tab, pap = r["table"], r["paper"]
 
