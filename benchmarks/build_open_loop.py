@@ -1,6 +1,6 @@
 """Benchmark: time to build the open-loop spacecraft model G at one h (order 1324), to reduce it
 (G_r_low, G_r) and to build its uncertain/tunable LFT form; and the models of one design point
-(``trusscodesign.design.models_at``: G_r, G_r_low and the spillover model of the uncertain model) against the naive path it
+(``trusscodesign.study.design.models_at``: G_r, G_r_low and the spillover model of the uncertain model) against the naive path it
 is tested against (scipy's ``solve_sylvester``, which recomputes the Schur forms it is given, and ``modal_reduction``
 of G_r_low, which splits its slow part again before each cut).
 
@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from _machine import machine_info
-from trusscodesign import design, reduction, spacecraft, truss, titop
+from trusscodesign.study import design
+from trusscodesign.model import reduction, spacecraft, truss, titop
 
 
 def timed(fn, repeat):

@@ -36,8 +36,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from trusscodesign import codesign, spacecraft  # noqa: E402
-from trusscodesign.closedloop import LoopSettings  # noqa: E402
+from trusscodesign.study import codesign
+from trusscodesign.model import spacecraft  # noqa: E402
+from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
 
 
 def main() -> None:
@@ -60,7 +61,7 @@ def main() -> None:
     params = spacecraft.study_parameters(args.preset)
     checkpoint = args.checkpoint or f"runs/benchmark_codesign_{args.preset}_checkpoint.json"
     if args.report:
-        from trusscodesign import pso
+        from trusscodesign.study import pso
 
         state = pso.load_state(args.report)
         n_workers = os.cpu_count() or 1

@@ -1,6 +1,6 @@
 """Benchmark: notebook 08's mu sweep (both transfers at 50 panel angles) in this process and on a local Dask cluster.
 
-The angles of the sweep are independent (:func:`trusscodesign.robustness.sweep`), so on the 2-core reference machine they can
+The angles of the sweep are independent (:func:`trusscodesign.study.robustness.sweep`), so on the 2-core reference machine they can
 run on two single-threaded workers. This script times the sweep of notebook 08's settings (``n_tau`` angles with
 tau = tan(theta/4) evenly spaced in [0, 1], ``n_log`` = 150, ``focus`` = 0.7, seed 2026) on one design:
 
@@ -25,8 +25,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from trusscodesign import codesign, design, robustness, spacecraft  # noqa: E402
-from trusscodesign.closedloop import LoopSettings  # noqa: E402
+from trusscodesign.study import codesign, design, robustness
+from trusscodesign.model import spacecraft  # noqa: E402
+from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
 
 
 def _flat(sweep: list[dict]) -> dict[str, np.ndarray]:

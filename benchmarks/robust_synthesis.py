@@ -13,7 +13,7 @@ Measures, on this machine (2 cores; one BLAS thread per synthesis worker):
   dense path and by the fast one, from its gain alone and from its gain and final scenario set (as a co-design does),
   with the source design synthesised by each path (two local optima; restarted once from its final gain if it fails);
 * cold syntheses at h = 2.5 cm with the default stopping tolerance and the co-design's (notebook 07 quotes both);
-* the same syntheses by the dense path and by the fast one (``fast=True``, :mod:`trusscodesign.modalloop`): cold at 2.139 cm,
+* the same syntheses by the dense path and by the fast one (``fast=True``, :mod:`trusscodesign.control.modalloop`): cold at 2.139 cm,
   warm from a 2.0 cm design's gain, warm from the grid's 2.1 cm design (co-design tolerance);
 * the mu analysis (both transfers) at ``--n-tau`` panel angles, per angle (notebook 08 runs 50).
 
@@ -35,8 +35,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from trusscodesign import design, robustness  # noqa: E402
-from trusscodesign.closedloop import LoopSettings  # noqa: E402
+from trusscodesign.study import design, robustness  # noqa: E402
+from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
 
 
 # the stored co-design grid (notebook 07: ball trust region, least-change restoration, fast path)
@@ -46,7 +46,7 @@ GRID = Path("data") / "results" / "07_grid.json"
 def grid_design(h0: float) -> tuple[dict, list]:
     """The stored co-design grid's design at ``h0`` [m] (``data/results/07_grid.json``): its record (gain, J_c, ...)
     and its final scenario set, the warm start a co-design makes (notebook 07's Step 3)."""
-    from trusscodesign import synthesis
+    from trusscodesign.control import synthesis
 
     grid = json.loads((Path(__file__).parents[1] / GRID).read_text())
     rec = next((r for r in grid["records"] if abs(r["h"] - h0) < 1e-9), None)
@@ -59,7 +59,8 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
     """Warm starts from the co-design grid's design at ``h0`` [m] (its gain and final scenario set, the co-design's
     tolerance) to ``h0 + step``: first how the gain itself fares at the new h (largest real part and smallest
     damping ratio of the closed-loop poles over the scenario set), then the synthesis time."""
-    from trusscodesign import codesign, synthesis
+    from trusscodesign.study import codesign
+    from trusscodesign.control import synthesis
 
     rec, scen = grid_design(h0)
     out = {}
@@ -91,7 +92,8 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
     """Warm start at ``h`` [m] from a design at ``h0`` synthesised to serve its truss moved by ``shifts`` (relative), by
     the dense path or (``fast_source``) the fast one: how the gain fares at the new h before any iteration (default
     scenario set), then the synthesis (co-design tolerance)."""
-    from trusscodesign import codesign, synthesis
+    from trusscodesign.study import codesign
+    from trusscodesign.control import synthesis
 
     m0 = design.models_at(h0)
     # one restart if the source fails (measured on an Intel machine: the fast-path source stopped after 6 rounds, Z_c 1.23)
@@ -117,10 +119,10 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
 
 
 def _fast_against_dense(settings: LoopSettings) -> dict:
-    """The same syntheses by the dense path and by the fast one (``fast=True``, :mod:`trusscodesign.modalloop`): cold at
+    """The same syntheses by the dense path and by the fast one (``fast=True``, :mod:`trusscodesign.control.modalloop`): cold at
     2.139 cm, warm-started there from the gain of a design at 2.0 cm, and from the co-design grid's 2.1 cm design
     (gain and scenario set, co-design tolerance)."""
-    from trusscodesign import codesign
+    from trusscodesign.study import codesign
 
     m = design.models_at(0.02139)
     near = design.robust_design(design.models_at(0.020), settings, fast=True)
@@ -167,7 +169,7 @@ def main() -> None:
     warm = design.robust_design(m, settings, gain0=near.gain)
     out["warm_from_h_2.0cm"] = dict(time_s=warm.time_s, iterations=warm.iterations, evaluations=warm.evaluations, J_c=warm.j_c,
                                     Z_c=warm.z_c, success=warm.success, scenarios=len(warm.scenarios))
-    from trusscodesign import codesign
+    from trusscodesign.study import codesign
 
     co = design.robust_design(m, settings, gain0=near.gain, scenarios=near.scenarios, **codesign.SYNTHESIS_OPTIONS)
     out["warm_from_h_2.0cm_with_scenarios_codesign_tol"] = dict(time_s=co.time_s, iterations=co.iterations,

@@ -2,7 +2,7 @@
 
 A warm start from a neighbouring design takes 1-6 rounds, each ending with a dense worst-case search over the
 uncertainty box (90 grid candidates, then four Nelder-Mead refinements of up to 31 evaluations): 35-50 % of its time.
-Three options of :func:`trusscodesign.synthesis.synthesize` make the search cheaper or the rounds fewer:
+Three options of :func:`trusscodesign.control.synthesis.synthesize` make the search cheaper or the rounds fewer:
 
 * ``fast_search``: the grid by the fast path, each grid plant's modal form kept from one search to the next; the best
   candidates and those found unstable evaluated again densely (the search's results stay the dense path's);
@@ -14,7 +14,7 @@ and two make each evaluation cheaper (the same steps, to 1e-8 of the values or t
 
 * ``peak_refine = "parabolic"``: each peak refined by 8 parabolic steps instead of 85 nested-grid points;
 * ``processes = True``: the optimiser's fast-path evaluations on a worker process and this one instead of two threads
-  (:mod:`trusscodesign.modalpool`), the same values to the last bit;
+  (:mod:`trusscodesign.control.modalpool`), the same values to the last bit;
 
 and two stop the optimiser of a round sooner (fewer steps, a J_c a little higher):
 
@@ -47,9 +47,10 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from _machine import machine_info  # noqa: E402
 from robust_synthesis import grid_design  # noqa: E402
-from trusscodesign import codesign, design, synthesis  # noqa: E402
-from trusscodesign.closedloop import LoopSettings  # noqa: E402
-from trusscodesign.modalpool import shared_pool  # noqa: E402
+from trusscodesign.study import codesign, design
+from trusscodesign.control import synthesis  # noqa: E402
+from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
+from trusscodesign.control.modalpool import shared_pool  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
 WARM_FROM = (0.016, 0.019, 0.021, 0.024, 0.028)
@@ -73,7 +74,7 @@ def cases(steps: Sequence[float] = STEPS) -> list[tuple[str, float, float]]:
 
 def run_case(name: str, h: float, h0: float | None, options: dict, workers: int, **key) -> dict:
     """One synthesis of a case (``h`` [m], warm-started from the stored grid's design at ``h0`` [m], its gain and
-    scenario set, or cold if None) with ``options`` for :func:`trusscodesign.design.robust_design` and ``workers``
+    scenario set, or cold if None) with ``options`` for :func:`trusscodesign.study.design.robust_design` and ``workers``
     threads, BLAS on one thread; its record: ``key`` (e.g. ``variant=...``), J_c, Z_c, validity, iterations, searches
     and the synthesis's wall time [s] (the model's build left out)."""
     from threadpoolctl import threadpool_limits
@@ -132,7 +133,7 @@ def _run(name: str, h: float, h0: float | None, variant: str) -> dict:
 
 
 def _thread_scaling(h: float = 0.02139, h0: float = 0.021, repeats: int = 10) -> dict:
-    """Time of one fast-path evaluation of the optimiser (:func:`trusscodesign.synthesis.loop_peaks` with a modal form) of each plant
+    """Time of one fast-path evaluation of the optimiser (:func:`trusscodesign.control.synthesis.loop_peaks` with a modal form) of each plant
     of a warm start's scenario set (the grid's design at ``h0`` [m], evaluated at ``h``), on one and on two threads, and
     (parabolic peaks) on one thread, two threads and a worker process with this one, at gains 0.1 % apart as trust-region
     steps [ms per plant]."""
@@ -140,7 +141,7 @@ def _thread_scaling(h: float = 0.02139, h0: float = 0.021, repeats: int = 10) ->
 
     from threadpoolctl import threadpool_limits
 
-    from trusscodesign.modalloop import ModalLoop
+    from trusscodesign.control.modalloop import ModalLoop
 
     settings = LoopSettings.from_parameters()
     rec, scen = grid_design(h0)

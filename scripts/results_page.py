@@ -550,7 +550,7 @@ def nb06c(d: dict) -> str:
     return f"""## 06c · The PMAs' authority, and the readings of the paper that move it
 
 The **authority share** is the share of u_max the PMAs need to cancel the SADM disturbance's line-of-sight response,
-sigma_max(H_LOS,u^+ H_LOS,p) p_max / u_max on the passive loop (`trusscodesign.authority`). At a lightly damped mode it
+sigma_max(H_LOS,u^+ H_LOS,p) p_max / u_max on the passive loop (`trusscodesign.study.authority`). At a lightly damped mode it
 is the ratio of the modal forcings of the worst disturbance (at p_max) and of the PMAs (at u_max), whatever the mode's
 damping. At h = {cm(p['h_design'])} cm, at the mode with the largest LOS peak over the panel angles
 {', '.join(f'{t:g}' for t in p['figure_thetas'])} deg: with the stated values {peak['stated']['share at the mode']:.3g} at
@@ -579,7 +579,7 @@ at h = 3 cm, J_c from a full robust synthesis at each h), minimised over h in [{
 particle swarm with MATLAB `particleswarm`'s rules (seed {p['seed']}), the particles evaluated in parallel on Dask. The
 mass from the DC gain at 3 cm is {r['m0_from_dc_kg']:.3f} kg (the paper's m0: {pp['m0_kg']} kg). The synthesis options:
 {'fast path' if p['fast_synthesis'] else 'dense path'}, {p['trust_region']} trust region, {p['restoration'].replace('_', '-')}
-restoration (see `trusscodesign.synthesis`).
+restoration (see `trusscodesign.control.synthesis`).
 
 {headline07(p, r, head)}
 

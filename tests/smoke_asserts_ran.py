@@ -11,7 +11,6 @@ import os
 from pathlib import Path
 
 import pytest
-
 from _scripts import load_script
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -11,7 +11,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from trusscodesign import spacecraft
+from trusscodesign.model import spacecraft
 
 ROOT = Path(__file__).resolve().parents[1]
 # a swarm, a grid and a check of the optimum small enough for CI; the README's preset, range, folders and notebook are

@@ -4,6 +4,7 @@ and its lock file)."""
 
 from __future__ import annotations
 
+import ast
 import os
 import re
 import subprocess
@@ -17,7 +18,9 @@ from packaging.requirements import Requirement
 
 ROOT = Path(__file__).parents[1]
 PACKAGE = ROOT / "lib" / "trusscodesign"
-MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__init__")
+# dotted names under the package: the layer subpackages and their modules
+MODULES = sorted(".".join(p.relative_to(PACKAGE).with_suffix("").parts).removesuffix(".__init__")
+                 for p in PACKAGE.rglob("*.py") if p.parent != PACKAGE)
 
 
 def _clean_env() -> dict:
@@ -39,11 +42,85 @@ def test_every_module_imports_in_a_fresh_interpreter(tmp_path: Path) -> None:
     assert len(MODULES) > 25  # the glob found the package
 
 
-def test_the_docstring_names_every_module() -> None:
+def test_the_docstrings_name_every_module() -> None:
+    """The package's docstring names each layer, each layer's docstring each of its modules."""
+    import importlib
+
     import trusscodesign
 
-    missing = [m for m in MODULES if f"``{m}``" not in trusscodesign.__doc__]
-    assert not missing, f"add them to the module map of lib/trusscodesign/__init__.py: {missing}"
+    layers = [m for m in MODULES if "." not in m]
+    assert sorted(layers) == ["control", "infra", "model", "study"]
+    assert all(f"``{layer}``" in trusscodesign.__doc__ for layer in layers)
+    missing = [m for m in MODULES if "." in m
+               and f"``{m.split('.')[1]}``" not in (importlib.import_module(f"trusscodesign.{m.split('.')[0]}").__doc__ or "")]
+    assert not missing, f"add them to the module map of their layer's __init__.py: {missing}"
+
+
+LAYERS = ("infra", "model", "control", "study")  # bottom to top: a module imports its own layer and those below
+
+
+def _package_imports() -> dict[str, set[str]]:
+    """Each module's imports of the package's modules (dotted names under the package, e.g. ``model.ports``), those in
+    functions included: a function-level import is a dependency too."""
+    graph: dict[str, set[str]] = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).with_suffix("").parts
+        name = ".".join(parts).removesuffix("__init__").rstrip(".")
+        here = parts[:-1]  # the module's package, relative to the package's root
+        deps = graph.setdefault(name, set())
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = list(here[:len(here) - node.level + 1])
+                elif node.module and node.module.split(".")[0] == "trusscodesign":
+                    base = []
+                else:
+                    continue
+                mod = (node.module or "").split(".")
+                mod = mod[1:] if not node.level else mod
+                target = [*base, *[m for m in mod if m]]
+                for alias in node.names:  # "from . import ports" imports a module, "from .ports import X" a name
+                    sub = ".".join([*target, alias.name])
+                    deps.add(sub if (PACKAGE / Path(*sub.split("."))).with_suffix(".py").exists() else ".".join(target))
+            elif isinstance(node, ast.Import):
+                deps.update(a.name.split(".", 1)[1] for a in node.names if a.name.startswith("trusscodesign."))
+        deps.discard("")
+        deps.discard(name)
+    return graph
+
+
+def test_imports_go_down_the_layers() -> None:
+    """study -> control -> model -> infra: no module imports a layer above its own."""
+    up = [f"{m} imports {d}" for m, deps in _package_imports().items() if "." in m
+          for d in deps if "." in d and LAYERS.index(d.split(".")[0]) > LAYERS.index(m.split(".")[0])]
+    assert not up, up
+
+
+def test_no_import_cycle() -> None:
+    graph = _package_imports()
+    state: dict[str, int] = {}  # 1: on the current path, 2: done
+
+    def visit(node: str, path: list[str]) -> list[str] | None:
+        state[node] = 1
+        for dep in sorted(graph.get(node, ())):
+            if state.get(dep) == 1:
+                return [*path[path.index(dep):], dep] if dep in path else [*path, dep]
+            if dep not in state and (cycle := visit(dep, [*path, dep])):
+                return cycle
+        state[node] = 2
+        return None
+
+    for start in sorted(graph):
+        if start not in state and (cycle := visit(start, [start])):
+            raise AssertionError(" -> ".join(cycle))
+
+
+def test_the_dependency_graph_is_read_correctly() -> None:
+    """The checks above can fail: known edges are found, and an added upward import would be seen."""
+    graph = _package_imports()
+    assert {"infra.results", "model.lft"} <= graph["model.spacecraft"]  # a function-level and a top-level import
+    assert "control.synthesis" in graph["study.codesign"] and "model.spacecraft" in graph["control.closedloop"]
+    assert "model.statespace" in graph["model.lft"] and "model.ports" not in graph["model.lft"]
 
 
 @pytest.fixture(scope="module")
@@ -70,7 +147,8 @@ def test_the_installed_package_builds_the_spacecraft_from_another_folder(wheel: 
     zipfile.ZipFile(wheel).extractall(site)
     work = tmp_path / "elsewhere"
     work.mkdir()
-    code = ("import sys; sys.path.insert(0, sys.argv[1]); import trusscodesign; from trusscodesign import paths, spacecraft\n"
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); import trusscodesign; from trusscodesign.infra import paths\n"
+            "from trusscodesign.model import spacecraft\n"
             "assert trusscodesign.__file__.startswith(sys.argv[1]), trusscodesign.__file__\n"
             "assert paths.ROOT is None and str(paths.PACKAGE_DATA).startswith(sys.argv[1])\n"
             "print(spacecraft.open_loop(0.02139).G.nstates)")

@@ -10,8 +10,7 @@ import json
 from pathlib import Path
 
 import numpy as np
-
-from trusscodesign import synthesis
+from trusscodesign.control import synthesis
 
 ROOT = Path(__file__).parents[1]
 

@@ -63,7 +63,7 @@ def test_notebooks_import_the_library_of_this_checkout(tmp_path: Path) -> None:
     # where figures and results go), not whichever checkout was last installed in editable mode
     roots = tmp_path / "roots.txt"
     import sys
-    env = _fake(tmp_path, f"cd notebooks && {sys.executable} -c 'import trusscodesign.paths; print(trusscodesign.paths.ROOT)' >> {roots}\n")
+    env = _fake(tmp_path, f"cd notebooks && {sys.executable} -c 'import trusscodesign.infra.paths; print(trusscodesign.infra.paths.ROOT)' >> {roots}\n")
     subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "r")], cwd=ROOT, env=env, capture_output=True, text=True)
     assert set(roots.read_text().split()) == {str(ROOT.resolve())}
 
@@ -162,8 +162,9 @@ def test_the_asserts_a_smoke_run_skips_are_named(tmp_path: Path) -> None:
     asserts that ran; an assert behind a branch the parameters left out, one in an empty loop and one in a function never
     called are named, with their cell and line; magics do not confuse the cell's identity; the startup file leaves no
     import in the notebook's namespace."""
-    import nbformat
     import sys
+
+    import nbformat
 
     smoke_asserts = load_script("smoke_asserts")
     nb = nbformat.v4.new_notebook()

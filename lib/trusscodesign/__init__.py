@@ -1,19 +1,17 @@
 """trusscodesign: sub-structured (TITOP/NINOP) modelling and robust co-design of flexible space trusses.
 
-Modules: ``frames`` (DCMs, kinematic model tau, rotation LFTs), ``ports`` (multi-port models,
-channel inversion, interconnection, delta ports), ``titop`` (analytical Euler-Bernoulli beam,
-h-parametrised LFT beam), ``mechanisms`` (L-chain, triangle, square), ``cube``, ``nastran`` (the cube's stored Nastran/SDT tables, read and checked), ``truss``
-(T-truss), ``bodies`` (hub, antenna, PMA, solar panel on SADM), ``spacecraft`` (open-loop G), ``schema`` (the spacecraft parameters' fields, units and ranges),
-``lft`` (uncertain/tunable parameters and LFT algebra), ``reduction`` (spurious slow poles,
-modal reduction), ``modal`` (participation factors, models from modal data), ``assembly``
-(direct constrained assembly), ``frame_fe`` and ``opensees_fe`` (finite-element references),
-``closedloop`` (the pointing study's generalized plant), ``hinf`` (exact H-infinity norms), ``mu`` and
-``mu_interval`` (worst-case gain bounds, pointwise and certified over frequency intervals), ``synthesis``,
-``modalloop`` and ``modalpool`` (robust structured synthesis of the PMA gain; the fast path, on worker processes),
-``authority`` (the share of the PMA bound needed to cancel the disturbance), ``design``,
-``sensitivity`` (the two-sided sensitivity study of notebook 06), ``robustness`` (mu sweep over the panel
-angle), ``pso`` and ``codesign`` (the particle-swarm co-design), ``timedomain`` (worst-case sinusoid from rest),
-``checks``, ``paths``, ``plotting``, ``results``.
+Four layers, each a subpackage whose docstring maps its modules; imports go one way only, down the list:
+
+``study``
+    the studies the notebooks run: design, sensitivity, robustness, time domain, particle-swarm co-design;
+``control``
+    the pointing loop, exact norms, mu bounds and the robust structured synthesis of the PMA gain;
+``model``
+    the sub-structured multi-port models, the LFT algebra and the uncertain spacecraft;
+``infra``
+    the plumbing: input checks, paths, results files and caches, versions, plotting.
+
+Example: ``from trusscodesign.model import spacecraft``.
 """
 
 import logging

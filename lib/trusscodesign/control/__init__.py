@@ -1,0 +1,8 @@
+"""The control: the pointing loop, exact norms, worst-case bounds and the robust structured synthesis of the PMA gain.
+
+``closedloop`` (the pointing study's generalized plant), ``hinf`` (exact H-infinity norms), ``mu`` and ``mu_interval``
+(worst-case gain bounds, pointwise and certified over frequency intervals), ``synthesis`` (robust structured
+synthesis), ``modalloop`` and ``modalpool`` (the synthesis's fast path, on worker processes).
+
+It imports the model (:mod:`trusscodesign.model`) and the plumbing only.
+"""

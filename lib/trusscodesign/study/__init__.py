@@ -1,0 +1,9 @@
+"""The studies built on the model and the control: what the notebooks run.
+
+``design`` (the robust design at a beam side h), ``authority`` (the share of the PMA bound needed to cancel the
+disturbance), ``sensitivity`` (the two-sided sensitivity study of notebook 06), ``robustness`` (mu sweep over the
+panel angle), ``timedomain`` (worst-case sinusoid from rest), ``pso`` and ``codesign`` (the particle-swarm
+co-design).
+
+It may import every other layer; none imports it.
+"""

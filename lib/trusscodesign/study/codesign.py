@@ -1,0 +1,827 @@
+"""Structure/control co-design over the beam section side h: the nested objective, evaluated in parallel.
+
+Paper: "Co-design optimization architecture" (Steps 1-4) and "Co-design optimization results". For a particle
+h: build the reduced uncertain model (Step 1), close the loop with the ACS of that h (Step 2), tune ``K_PMA``
+by the robust synthesis warm-started from the previous iteration's best particle (Step 3), and evaluate
+
+``f^n(h) = m(h)/m0 + |0.9 - J_c(h, K(h))|`` if ``J_c <= 2``, else ``m(h)/m0 + 10``   (Step 4),
+
+with ``m(h)`` the T-truss mass from the DC gain ``W_P1 -> a_P1`` (the whole spacecraft's rigid mass minus the
+other bodies, checked against ``rho h^2 * total beam length``). A failed synthesis gets the penalty and its reason
+is logged; it never stops the run. Particles of an iteration are evaluated in parallel by Dask
+(:func:`evaluate_swarm`): a local cluster by default, or any scheduler (e.g. dask-jobqueue on Slurm).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+import traceback
+import warnings
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import nullcontext
+from pathlib import Path
+from typing import Any, cast
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..model import spacecraft
+from ..control import synthesis
+from ..infra.checks import check_option, check_real
+from ..control.closedloop import LoopSettings
+from ..infra.results import normalise_key, read_keyed, run_lock, write_json
+from ..control.synthesis import Scenario
+
+__all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "on_resolution", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
+
+M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
+H_M0 = 0.03  # m, the section side of the paper's reference truss, whose mass is m0 (whatever the design range)
+TARGET_JC = 0.9
+PENALTY = 10.0
+JC_LIMIT = 2.0
+# Stopping rule of the synthesis inside the co-design: less than 1 % decrease of J over 5 accepted steps (the
+# synthesis default is 0.2 %). J_c enters f^n through |0.9 - J_c| with J_c of a few 1e-2, so the looser rule moves
+# f^n little: measured by benchmarks/robust_synthesis.py on a cold start at 2.5 cm, J_c 0.01871 with the default rule
+# and 0.01930 with this one (f^n 0.04 % apart), in 101 iterations instead of 145 (41.7 s instead of 55.6 s).
+SYNTHESIS_OPTIONS: dict[str, Any] = {"tol": 1e-2}
+
+
+def synthesis_options(fast: bool = False, trust_region: str = "box", restoration: str = "minmax") -> dict[str, Any] | None:
+    """The co-design's synthesis options with the fast path, a trust-region shape and/or a restoration step:
+    :data:`SYNTHESIS_OPTIONS` plus what differs from the synthesis defaults, or None when nothing does (the options the
+    box-only runs were stored with, so that their checkpoints and caches keep matching).
+
+    ``fast``, ``trust_region`` ({"box", "ball"}) and ``restoration`` ({"minmax", "least_change"}) are those of
+    :func:`trusscodesign.control.synthesis.synthesize`; notebook 07's stored run uses ``(True, "ball", "least_change")``.
+    """
+    # their ValueError for an unknown trust region or restoration
+    synthesis.check_options({"trust_region": trust_region, "restoration": restoration})
+    extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {}),
+             **({"restoration": restoration} if restoration != "minmax" else {})}
+    return {**SYNTHESIS_OPTIONS, **extra} if extra else None
+
+
+def objective_value(mass: float, j_c: float, m0: float) -> float:
+    """The paper's nested objective ``f^n`` (penalty 10 when ``J_c > 2`` or the synthesis failed, ``J_c = inf`` or NaN).
+
+    ``mass`` and ``m0`` [kg] must be finite and positive, ``j_c`` non-negative (or NaN / inf for a failed synthesis).
+    """
+    for name, value in (("mass", mass), ("m0", m0)):
+        if not (isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a finite positive mass [kg], got {value!r}")
+    if j_c < 0:
+        raise ValueError(f"j_c must be a non-negative H-infinity norm (inf or NaN for a failed synthesis), got {j_c!r}")
+    if not (np.isfinite(j_c) and j_c <= JC_LIMIT):
+        return mass / m0 + PENALTY
+    return mass / m0 + abs(TARGET_JC - j_c)
+
+
+def tolerance_shifts(truss_tolerance: float) -> tuple[float, ...]:
+    """The relative section-side errors a truss-tolerant design is synthesised against: ``-t, -t/2, t/2, t`` for the
+    tolerance ``t`` (none for 0: the paper's recipe, the exact truss only).
+
+    Four shifts rather than the two ends: notebook 06b's designs made against these pass all 9 shifts of a finer check
+    within +-2 % (with 37 panel angles), which a check between the synthesised shifts could otherwise fail.
+
+    Raises
+    ------
+    ValueError
+        Unless ``truss_tolerance`` is a relative error in [0, 0.2) (0.02 for 2 %).
+    """
+    if isinstance(truss_tolerance, bool) or not isinstance(truss_tolerance, (int, float, np.integer, np.floating)) \
+            or not (0.0 <= float(truss_tolerance) < 0.2):
+        raise ValueError(f"truss_tolerance must be a relative section-side error in [0, 0.2) (0.02 for +-2 %; 0 for the "
+                         f"paper's recipe), got {truss_tolerance!r}: in percent? (divide by 100)")
+    t = float(truss_tolerance)
+    return () if t == 0.0 else (-t, -t / 2, t / 2, t)
+
+
+def truss_mass_from_dc(models, params: dict | None = None) -> float:
+    """T-truss mass [kg] from the DC gain ``W_P1 -> a_P1`` of the reduced model at nominal parameters.
+
+    The 6x6 DC gain is inverted (the CoG is not at P1); its (1, 1) entry is the spacecraft mass, from which the
+    hub, panels, antenna and PMAs are subtracted.
+    """
+    p = params or spacecraft.load_parameters()
+    a, b, c, d = models.g_r.evaluate({k: v.nominal for k, v in models.g_r.params.items()})
+    ii = [spacecraft.INPUTS.index(f"W_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    oo = [spacecraft.OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
+    mass = float(np.linalg.inv(d[np.ix_(oo, ii)] - c[oo] @ np.linalg.solve(a, b[:, ii]))[0, 0])
+    others = {k: v for k, v in spacecraft.component_masses(models.h, params=p).items() if k != "truss"}
+    return mass - sum(others.values())
+
+
+#: What a failed evaluation raises: a model that cannot be built at h, a singular matrix, a synthesis or solver that
+#: does not converge, an overflow. The particle is penalised and the run goes on.
+NUMERICAL_FAILURES: tuple[type[Exception], ...] = (ArithmeticError, ValueError, RuntimeError)
+#: Subclasses of those that are programming errors, not numerics: they stop the run with their traceback.
+NOT_NUMERICAL: tuple[type[Exception], ...] = (NotImplementedError, RecursionError, UnicodeError)
+
+
+def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
+                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None,
+                      scenarios0: Sequence[Sequence[float]] | None = None, truss_tolerance: float = 0.0) -> dict:
+    """One objective evaluation (Steps 1-4 for one particle); a numerical failure is a penalised particle, not an error.
+
+    Parameters
+    ----------
+    h : float
+        Section side [m].
+    gain0 : array_like (4, 8), optional
+        Warm start (default: all gains at -1).
+    settings, params
+        Closed-loop settings and spacecraft parameters (defaults: the data files).
+    m0 : float
+        Reference mass [kg] (the paper's 183.11 kg, truss at 3 cm).
+    fail : bool
+        Raise inside the evaluation (to test that a failure is penalised and logged, not fatal).
+    synthesis_options : dict, optional
+        Passed to :func:`trusscodesign.study.design.robust_design` (default :data:`SYNTHESIS_OPTIONS`).
+    scenarios0 : sequence of 4-vectors, optional
+        Initial scenario set of the synthesis, normalised ``(d_mass, d_iyy, d_omega1, theta)`` (default: the
+        21 of :func:`trusscodesign.control.synthesis.default_scenarios`); the warm start passes the set the best particle ended with,
+        so that the scenarios its worst-case searches found are there from the start.
+    truss_tolerance : float
+        Relative section-side error the design must survive (0.02: +-2 %): the gain is synthesised on the truss at h and
+        at ``h (1 + s)`` for each shift of :func:`tolerance_shifts` (the truss-tolerant synthesis of notebook 06b), so a
+        design that cannot serve them all is a failed, penalised particle. Default 0: the paper's recipe (the exact truss).
+
+    Returns
+    -------
+    dict
+        ``h``, ``f``, ``J_c``, ``Z_c``, their critical frequencies [rad/s] and panel angles [deg] (``critical_omega``,
+        ``critical_theta_deg``, ``effort_omega``, ``effort_theta_deg``, as :func:`trusscodesign.study.design.design_record`),
+        ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
+        (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
+        ``t_model`` (= ``t_build`` + ``t_reduction`` + ``t_variants``, the shifted trusses' models), ``t_synthesis`` [s],
+        ``scenarios`` (the final set, as
+        4-vectors, or None). A :data:`NUMERICAL_FAILURES` raised inside (including a bad ``h``) makes the record
+        failed, with ``traceback``.
+
+    Raises
+    ------
+    Exception
+        Any other error (TypeError, NameError, AttributeError, KeyError, ...: a programming error), with its traceback.
+    """
+    from threadpoolctl import threadpool_limits
+
+    from . import design
+
+    t0 = time.perf_counter()
+    out = _new_record(h)
+    p = params or spacecraft.load_parameters()
+    try:
+        out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), p)  # inside: a bad h is a failed particle
+        with threadpool_limits(1):
+            if fail:
+                raise RuntimeError("injected failure (test)")
+            models = design.models_at(float(h), params=p)
+            out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
+            t1 = time.perf_counter()
+            variants = design.truss_variants(models, tolerance_shifts(truss_tolerance), p)
+            out["t_variants"] = time.perf_counter() - t1
+            out["t_model"] = time.perf_counter() - t0
+            mass_dc = truss_mass_from_dc(models, p)
+            if not abs(mass_dc - out["mass_check"]) <= 1e-6 * out["mass_check"]:  # (NaN fails too)
+                raise RuntimeError(f"the truss mass from the DC gain, {mass_dc:.6f} kg, differs from rho h^2 L = "
+                                   f"{out['mass_check']:.6f} kg: the reduced model does not keep the rigid mass")
+            out["mass"] = mass_dc
+            t1 = time.perf_counter()
+            scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
+            opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
+            res = design.robust_design(models, settings, gain0=gain0, scenarios=scen, variants=variants, workers=1, **opts)
+            out["t_synthesis"] = time.perf_counter() - t1
+        record = design.design_record(res)  # with the critical frequencies [rad/s] and panel angles [deg]
+        out.update({k: record[k] for k in _CRITICAL})
+        out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations,
+                   scenarios=[sc.vector().tolist() for sc in res.scenarios])
+        out["status"] = "ok" if res.success else f"failed: {res.message}"
+        if not res.success:
+            out["J_c"] = np.inf
+    except NUMERICAL_FAILURES as exc:  # a failed particle is penalised and logged; a programming error stops the run
+        if isinstance(exc, NOT_NUMERICAL):
+            raise
+        out["status"] = f"failed: {type(exc).__name__}: {exc}"
+        out["traceback"] = traceback.format_exc(limit=3)
+    out["t_total"] = time.perf_counter() - t0
+    return _with_objective(out, m0)
+
+
+_CRITICAL = ("critical_omega", "critical_theta_deg", "effort_omega", "effort_theta_deg")
+
+
+def _new_record(h: float) -> dict[str, Any]:
+    """A particle's record before its evaluation: no design yet (J_c, Z_c infinite), no mass, no times."""
+    return {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
+            "t_reduction": 0.0, "t_variants": 0.0, "t_synthesis": 0.0, **dict.fromkeys(_CRITICAL), "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
+
+
+def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:
+    """``out`` with its status made a penalty where ``J_c > 2`` and its objective value ``f`` (infinite without a mass)."""
+    if out["status"] == "ok" and not out["J_c"] <= JC_LIMIT:  # NaN too
+        out["status"] = "penalty: J_c > 2"
+    try:
+        out["f"] = objective_value(out["mass"], out["J_c"], m0) if np.isfinite(out["mass"]) else np.inf
+    except ValueError as exc:  # e.g. a bad m0: the particle fails, the run goes on
+        out["status"], out["f"] = f"failed: {exc}", np.inf
+    return out
+
+
+def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float = M0_PAPER) -> dict[str, Any]:
+    """The record of a particle whose evaluation never returned (it killed every worker that ran it): failed, with its
+    reason, and penalised like any failed synthesis (``f = m(h)/m0 + 10``).
+
+    Raises
+    ------
+    ValueError
+        If ``h`` is not a section side (the swarm's particles always are: a bad one is a programming error).
+    """
+    out = _new_record(h)
+    out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), params or spacecraft.load_parameters())
+    out["status"] = f"failed: {reason}"
+    return _with_objective(out, m0)
+
+
+# options of design.robust_design itself; the others go to synthesis.synthesize, except those evaluate_particle sets
+_DESIGN_OPTIONS = ("spillover", "restarts")
+_SET_BY_PARTICLE = ("model", "inertia_p1", "settings", "gain0", "scenarios", "workers", "stability_models", "variants")
+
+
+def _check_synthesis_options(options: object) -> None:
+    """Raise (TypeError for an unknown name or a non-number, ValueError for a value out of range) unless ``options`` are
+    options :func:`evaluate_particle` can pass to :func:`trusscodesign.study.design.robust_design`: checked once, before any particle,
+    instead of failing every particle after its model is built."""
+    if options is None:
+        return
+    if not isinstance(options, Mapping):
+        raise TypeError(f"synthesis_options must be a dict of options of trusscodesign.study.design.robust_design, got {type(options).__name__}")
+    taken = sorted(set(options) & set(_SET_BY_PARTICLE))
+    if taken:
+        raise TypeError(f"synthesis_options cannot set {taken}: evaluate_particle sets them")
+    if "restarts" in options:
+        check_option("restarts", options["restarts"], 0, integer=True)
+    try:
+        synthesis.check_options({k: v for k, v in options.items() if k not in _DESIGN_OPTIONS})
+    except TypeError as exc:
+        raise TypeError(f"synthesis_options: {exc} (and {list(_DESIGN_OPTIONS)} of trusscodesign.study.design.robust_design)") from None
+
+
+def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, params: dict | None,
+                 truss_tolerance: float = 0.0) -> None:
+    """Check what every particle of a batch would otherwise fail on, before any is evaluated: each h a section side in
+    metres inside the design range (:func:`trusscodesign.study.design.models_at` refuses the others), ``m0``, the synthesis options
+    and the truss tolerance."""
+    from .design import in_design_range
+
+    low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    h = np.asarray(hs, dtype=float)
+    if h.ndim != 1 or not h.size or not np.all(np.isfinite(h)) or not all(in_design_range(float(v), params) for v in h):
+        raise ValueError(f"hs must be a non-empty list of section sides in metres in the design range [{low}, {high}], "
+                         f"got {hs!r}")
+    objective_value(1.0, 0.0, m0)  # m0: a ValueError now, not after every particle's synthesis
+    _check_synthesis_options(synthesis_options)
+    tolerance_shifts(truss_tolerance)
+
+
+# Dask's nanny starts its workers with MALLOC_TRIM_THRESHOLD_=65536 (to hand freed memory back to the OS). Setting it
+# at all pins glibc's mmap threshold at 128 KiB, so every temporary array above that size is mmap'ed and page-faulted
+# anew: measured on this machine, a warm synthesis by the fast path took 33.3 s in a Dask worker, 16.8 s in a plain
+# process, 29.8 s in a plain process with that variable, and 17.4 s in a worker without it. None unsets it.
+NANNY_ENVIRON = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+
+
+def local_client(n_workers: int | None = None, scheduler: str | None = None):
+    """A Dask client: to ``scheduler`` (address of a running scheduler) or a local cluster of ``n_workers`` processes.
+
+    Workers get one thread each and one BLAS thread (``OPENBLAS_NUM_THREADS=1`` is set before they start), so that
+    process-level parallelism does not oversubscribe the cores. The local workers do not get the
+    ``MALLOC_TRIM_THRESHOLD_=65536`` that Dask's nanny sets by default (:data:`NANNY_ENVIRON`); on a cluster of your
+    own, set ``distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_`` to null in its Dask configuration too.
+    """
+    import os
+
+    import dask
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        return Client(scheduler)
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = "1"
+    n = n_workers or os.cpu_count() or 1
+    with dask.config.set(NANNY_ENVIRON):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+    return Client(cluster)
+
+
+def close_client(client) -> None:
+    """Close a client of :func:`local_client`, and the local cluster it started (a scheduler of your own stays up)."""
+    client.close()
+    if client.cluster is not None:
+        client.cluster.close()
+
+
+def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
+                   params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
+                   synthesis_options: dict | None = None,
+                   scenarios0: Sequence[Sequence[float]] | None = None, partial: str | Path | None = None,
+                   partial_key: dict | None = None, truss_tolerance: float = 0.0) -> list[dict]:
+    """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
+
+    A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default); a
+    particle whose evaluation ends its worker every time, run again alone, is a failed particle (:func:`lost_evaluation`)
+    and the run goes on. An evaluation that raises (a programming error, see :func:`evaluate_particle`) is not retried:
+    it stops the batch with its traceback, after the finished evaluations are saved.
+    The results do not depend on the number of workers (each evaluation is deterministic and single-threaded). Particles at the same h (e.g. several clamped to
+    a bound of the range) share one evaluation: with the same warm start the result is the same.
+    ``fail_particles`` injects failures (tests).
+
+    With ``partial`` (a JSON file) every finished evaluation is saved at once with ``partial_key`` (what the
+    evaluations depend on); a call with the same key reuses them, so an interrupted batch loses only the
+    evaluations that were running. The file also accumulates the wall time spent (``time_s``).
+    ``truss_tolerance``: see :func:`evaluate_particle`.
+    """
+    from tqdm.auto import tqdm
+
+    _check_batch(hs, m0, synthesis_options, params, truss_tolerance)
+    params = params or spacecraft.load_parameters()  # read here, once: the workers evaluate with these, not their own file's
+    gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
+    kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0,
+                              truss_tolerance=truss_tolerance)
+    keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
+    unique = list(dict.fromkeys(keys))
+    saved = _read_partial(partial, partial_key)
+    results = {k: saved["records"][_tag(k)] for k in unique if _tag(k) in saved["records"]}
+    todo = [k for k in unique if k not in results]
+    t0 = time.perf_counter()
+
+    def finished(key: tuple[float, bool], rec: dict) -> None:
+        results[key] = rec
+        bar.update()
+        if partial is not None:
+            saved["records"][_tag(key)] = rec
+            write_json(partial, {"key": saved["key"], "records": saved["records"],
+                                 "time_s": saved["time_s"] + time.perf_counter() - t0})
+
+    bar = tqdm(total=len(unique), initial=len(results), desc="particles", disable=not progress, leave=False)
+    if client is None:
+        for h, fail in todo:
+            finished((h, fail), evaluate_particle(h, gain0, fail=fail, **kw))
+    else:
+        from dask.distributed import KilledWorker
+
+        futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw): (h, fail)
+                   for h, fail in todo}
+        lost = []
+        for fut in _as_finished(client, futures):
+            try:
+                finished(futures[fut], fut.result())
+            except KilledWorker:  # its workers died: this particle's doing, or another's
+                lost.append(futures[fut])
+        # Dask blames every task a dying worker held, so a particle that kills its worker takes the others queued there
+        # with it: each lost particle runs again alone, and only one that still ends its worker is a failed particle
+        for h, fail in lost:
+            try:
+                alone = client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw)
+                rec = next(_as_finished(client, [alone])).result()
+            except KilledWorker as exc:
+                rec = lost_evaluation(h, f"the evaluation ended its worker every time (KilledWorker: {exc})", params, m0)
+            finished((h, fail), rec)  # saved in the partial file: a resume does not run it again
+    bar.close()
+    first = {k: i for i, k in reversed(list(enumerate(keys)))}
+    return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
+
+
+WORKERLESS_S = 120.0  # s without any worker after which a wait on the cluster gives up (its workers died for good)
+_POLL_S = 10.0  # s between two looks at the cluster while waiting
+
+
+def _as_finished(client, futures) -> Iterator:
+    """The futures, as they finish; a RuntimeError once the cluster has had no worker for :data:`WORKERLESS_S`.
+
+    ``dask.distributed.as_completed`` waits for ever when every worker has died and none was restarted (seen with a
+    nanny that could not restart its worker on an overloaded machine): the co-design would hang instead of stopping
+    with what it has saved.
+    """
+    from dask.distributed import wait
+
+    pending, alone_since = set(futures), None
+    while pending:
+        try:
+            done, pending = wait(pending, timeout=_POLL_S, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            if client.scheduler_info().get("workers"):
+                alone_since = None
+            elif alone_since is None:
+                alone_since = time.monotonic()
+            elif time.monotonic() - alone_since > WORKERLESS_S:
+                raise RuntimeError(f"the Dask cluster has had no worker for {WORKERLESS_S:.0f} s (they died and were not "
+                                   f"restarted) with {len(pending)} evaluations waiting: restart the cluster (the notebook's "
+                                   "kernel) and rerun; every finished evaluation is saved and is not run again") from None
+            continue
+        yield from done
+
+
+def _tag(key: tuple[float, bool]) -> str:
+    """JSON key of an evaluation: h to 17 digits and whether a failure is injected."""
+    return f"{key[0]!r}|{key[1]}"
+
+
+def _read_partial(path: str | Path | None, key: dict | None) -> dict:
+    """The evaluations saved by an interrupted :func:`evaluate_swarm` with the same key (none if another key)."""
+    try:
+        stored, key = read_keyed(path, key)
+    except ValueError as exc:  # (read_json: damaged) only a cache of finished particles: recompute them rather than stop
+        warnings.warn(f"ignoring the unreadable partial file {path} ({exc}): its particles are evaluated again", stacklevel=2)
+        stored, key = None, normalise_key(key)
+    return stored or {"key": key, "records": {}, "time_s": 0.0}
+
+
+def partial_path(checkpoint: str | Path) -> Path:
+    """File of the finished evaluations of the iteration under way, next to a swarm checkpoint."""
+    checkpoint = Path(checkpoint)
+    return checkpoint.with_name(checkpoint.stem + ".partial.json")
+
+
+def evaluations_path(checkpoint: str | Path) -> Path:
+    """File of every evaluation of a swarm started cold (``start="cold"``), next to its checkpoint: kept after the run,
+    so that the grid of the same objective and a rerun read it."""
+    checkpoint = Path(checkpoint)
+    return checkpoint.with_name(checkpoint.stem + ".evaluations.json")
+
+
+#: How a particle's synthesis starts: "previous_best" (the paper's Step 3: from the gain and scenario set of the previous
+#: iteration's best particle) or "cold" (from all gains at -1 and the default scenarios, so that the evaluation is a function
+#: of h alone and a particle at an h evaluated before, by the swarm or by the grid, reuses it).
+START_RULES = ("previous_best", "cold")
+
+
+def evaluation_key(settings: LoopSettings | None, params: dict | None, m0: float = M0_PAPER,
+                   synthesis_options: dict | None = None, truss_tolerance: float = 0.0) -> dict:
+    """What a cold-started evaluation of h depends on besides h (the key of :func:`evaluations_path`'s file, as
+    :func:`evaluate_swarm`'s ``partial_key``): the objective (loop settings, spacecraft parameters, model, m0, truss
+    tolerance), the synthesis options and version. A grid evaluated under this key shares its evaluations with the swarm."""
+    return {"start": "cold", "objective": _objective_key(settings, params, m0, truss_tolerance),
+            "options": _normalised_options(synthesis_options), "algorithm": synthesis.ALGORITHM}
+
+
+def on_resolution(h: float, resolution: float | None, h_range: Sequence[float]) -> float:
+    """``h`` [m] rounded to the nearest multiple of ``resolution`` [m] (None: unchanged), kept in ``h_range``: where the
+    swarm evaluates a position, and where a grid sharing its evaluations must put its points (the same float)."""
+    if resolution is None:
+        return float(h)
+    return float(np.clip(round(round(h / resolution) * resolution, 12), h_range[0], h_range[1]))
+
+
+def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | None = None, cache: str | Path | None = None,
+                  key: dict | None = None, chunk: int = 4, progress: bool = True, **kwargs) -> tuple[list[dict], float]:
+    """The nested objective at every h of a grid [m], each from a cold start (all gains at -1), resumable.
+
+    Parameters
+    ----------
+    hs : sequence of float
+        Section sides [m].
+    client : dask.distributed.Client, optional
+        Where the evaluations run (see :func:`evaluate_swarm`).
+    settings : LoopSettings, optional
+    cache : path, optional
+        JSON file written after every ``chunk`` evaluations with ``key``; a rerun with the same ``key`` (and
+        number of points) evaluates only the missing points, so an interrupted grid loses at most one chunk.
+    key : dict, optional
+        What the records depend on: a cache with another key is recomputed. Default: :func:`grid_key` (the grid, the
+        settings, the synthesis options and version, the parameters' fingerprint, the model's version) and the other
+        ``kwargs``. A cache whose records
+        are at other h than ``hs`` is refused whatever the key.
+    chunk : int
+        Evaluations between two saves (a multiple of the number of workers keeps them busy).
+    **kwargs
+        Passed to :func:`evaluate_swarm`.
+
+    Returns
+    -------
+    records : list of dict
+        One per h, in the order of ``hs``.
+    time_s : float
+        Wall time spent evaluating, summed over the calls that did it [s].
+
+    Raises
+    ------
+    ValueError
+        If ``hs`` is empty or holds a section side outside the design range [m], or ``chunk`` < 1; also for a bad ``m0``
+        or ``synthesis_options``, before any point is evaluated.
+    """
+    _check_batch(hs, kwargs.get("m0", M0_PAPER), kwargs.get("synthesis_options"), kwargs.get("params"), kwargs.get("truss_tolerance", 0.0))
+    check_option("chunk", chunk, 1, integer=True)
+    h = np.asarray(hs, dtype=float)
+    kwargs["params"] = kwargs.get("params") or spacecraft.load_parameters()  # read once, here: every worker gets these
+    if key is None:
+        key = grid_key(hs, settings or LoopSettings.from_parameters(), kwargs.get("synthesis_options"), kwargs["params"])
+        key["kwargs"] = {k: v for k, v in kwargs.items() if k != "params"}
+    # one run at a time on a grid cache: another live run holding it stops this one at once, naming it
+    with run_lock(cache) if cache is not None else nullcontext():
+        stored, key = read_keyed(cache, key)
+        records: list[dict | None] = [None] * len(hs)
+        time_s = 0.0
+        if stored is not None and len(stored.get("records", [])) == len(hs):  # resume
+            records, time_s = stored["records"], float(stored.get("time_s", 0.0))
+            other = [(i, r["h"]) for i, r in enumerate(records) if r is not None and float(r["h"]) != float(h[i])]
+            if other:
+                raise ValueError(f"the grid cache {cache} holds records at other h (e.g. {other[0][1]!r} m for "
+                                 f"{float(h[other[0][0]])!r} m) under the same key: pass another cache path or a key that names the grid")
+        todo = [i for i, r in enumerate(records) if r is None]
+        for start in range(0, len(todo), chunk):
+            idx = todo[start:start + chunk]
+            t0 = time.perf_counter()
+            done = evaluate_swarm([hs[i] for i in idx], None, client, settings, progress=progress, **kwargs)
+            time_s += time.perf_counter() - t0
+            for i, rec in zip(idx, done):  # (shared_with: evaluate_swarm's index within the chunk, made the grid's)
+                records[i] = rec if "shared_with" not in rec else dict(rec, shared_with=idx[rec["shared_with"]])
+            if cache is not None:
+                write_json(cache, {"key": key, "records": records, "time_s": time_s})
+        return cast(list[dict], records), time_s  # every record is filled by now
+
+
+def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: dict | None = None,
+             params: dict | None = None, truss_tolerance: float = 0.0) -> dict:
+    """The key of a stored grid of the objective (notebook 07's ``07_grid*.json``, :func:`evaluate_grid`'s ``key``):
+    the section sides [m], the loop settings, the synthesis options and version, the spacecraft parameters'
+    fingerprint (:func:`trusscodesign.model.spacecraft.parameters_fingerprint`) and the model's version
+    (:data:`trusscodesign.model.spacecraft.MODEL`), and the truss tolerance when there is one; a grid stored under another key
+    is recomputed."""
+    key = {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": synthesis_options or SYNTHESIS_OPTIONS,
+           "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params), "model": spacecraft.MODEL}
+    return {**key, **_tolerance_entry(truss_tolerance)}
+
+
+def _tolerance_entry(truss_tolerance: float) -> dict[str, float]:
+    """The truss tolerance as a key entry: none for the paper's recipe (0), so that the keys of the runs stored before
+    the tolerance existed still match."""
+    tolerance_shifts(truss_tolerance)  # checked
+    return {"truss_tolerance": float(truss_tolerance)} if truss_tolerance else {}
+
+
+def _objective_key(settings: LoopSettings | None, params: dict | None, m0: float, truss_tolerance: float = 0.0) -> dict:
+    """What f^n depends on besides h and the synthesis: the loop settings, the spacecraft parameters
+    (:func:`trusscodesign.model.spacecraft.parameters_fingerprint`, of the package's parameters when ``params`` is None), the
+    model's version (:data:`trusscodesign.model.spacecraft.MODEL`) and m0; stored in checkpoints and partial files, so that a run is never resumed with another objective."""
+    digest = spacecraft.parameters_fingerprint(params)
+    # settings=None is what trusscodesign.study.design.robust_design then takes, the data file's settings: stored resolved, so that a run
+    # with None and one with those settings given are the same objective
+    resolved = LoopSettings.from_parameters() if settings is None else settings
+    key = {"settings": resolved.__dict__, "params_sha256": digest, "model": spacecraft.MODEL, "m0": float(m0),
+           **_tolerance_entry(truss_tolerance)}
+    return json.loads(json.dumps(key, default=str))  # as it reads back from a checkpoint
+
+
+def _same_objective(stored: dict, objective: dict) -> bool:
+    """Whether a checkpoint's objective key is ``objective`` (:func:`_objective_key`); checkpoints written before
+    2026-12-05 stored ``settings=None`` unresolved."""
+    if stored.get("settings") is None:
+        stored = {**stored, "settings": _objective_key(None, None, 0.0)["settings"]}
+    return stored == objective
+
+
+def _changes(stored: dict, objective: dict) -> str:
+    """What differs between a stored objective key and this run's, in words."""
+    words = {"params_sha256": "the spacecraft parameters (their fingerprint)", "m0": "m0 [kg]", "truss_tolerance": "the truss tolerance"}
+    out = []
+    for k in sorted(set(stored) | set(objective)):
+        old, new = stored.get(k), objective.get(k)
+        if k == "settings" and isinstance(old, dict) and isinstance(new, dict):
+            out += [f"settings.{n}: {old.get(n)!r} stored, {new.get(n)!r} now" for n in sorted(set(old) | set(new)) if old.get(n) != new.get(n)]
+        elif old != new:
+            out.append(f"{words.get(k, k)}: {old!r} stored, {new!r} now")
+    return "; ".join(out) or "the same key"
+
+
+def _normalised_options(options: dict | None) -> Any:
+    """Synthesis options as a checkpoint stores them (JSON types; None means :data:`SYNTHESIS_OPTIONS`)."""
+    return json.loads(json.dumps(SYNTHESIS_OPTIONS if options is None else options, default=str))
+
+
+def check_study(h_min: object, h_max: object, n_particles: object, n_iterations: object, n_grid: object,
+                params: dict | None = None) -> None:
+    """Check a co-design study's range and sizes before any model is built (notebook 07's first step).
+
+    Parameters
+    ----------
+    h_min, h_max : float
+        The design range of the section side h [m]; ``h_min < h_max``, both inside the spacecraft parameters'
+        ``truss.h_range`` (the paper's [0.015, 0.03] m).
+    n_particles, n_iterations : int
+        Swarm size (at least 2) and iterations (at least 1).
+    n_grid : int
+        Points of the dense check of the objective over the range (at least 2).
+    params : dict, optional
+        Spacecraft parameters (default: the package's).
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the parameter, its unit and the allowed range (and, for a value above 1 m, the likely centimetres).
+    """
+    low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    for name, value in (("h_min", h_min), ("h_max", h_max)):
+        check_real(name, value, "m")
+        v = float(cast(float, value))
+        if not (np.isfinite(v) and low - 1e-12 <= v <= high + 1e-12):
+            hint = f" (in centimetres? {v:g} cm is {v / 100:g} m)" if 1.0 <= v <= 100.0 else ""
+            raise ValueError(f"{name} = {value!r} m must lie in the design range [{low}, {high}] m of the spacecraft "
+                             f"parameters (truss.h_range){hint}")
+    if not float(cast(float, h_min)) < float(cast(float, h_max)):
+        raise ValueError(f"h_min = {h_min!r} m must be below h_max = {h_max!r} m (an empty or reversed range)")
+    check_option("n_particles", n_particles, 2, integer=True)
+    check_option("n_iterations", n_iterations, 1, integer=True)
+    check_option("n_grid", n_grid, 2, integer=True)
+
+
+def _check_h_range(h_range: object, params: dict | None = None) -> None:
+    """Raise a ValueError (TypeError for a non-sequence) unless ``h_range`` is ``(low, high)`` in metres with
+    ``0 < low < high``, both finite, inside the design range of the spacecraft parameters (``truss.h_range``), where
+    :func:`trusscodesign.study.design.models_at` builds models (outside it every particle would fail)."""
+    if isinstance(h_range, (str, bytes)) or not isinstance(h_range, (Sequence, np.ndarray)):
+        raise TypeError(f"h_range must be a pair (low, high) of section sides in metres, got {h_range!r}")
+    pair = list(h_range)
+    ok = len(pair) == 2 and all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in pair)
+    if not (ok and np.all(np.isfinite(pair)) and 0.0 < pair[0] < pair[1]):
+        raise ValueError(f"h_range must be (low, high) in metres with 0 < low < high (the paper's (0.015, 0.03)), got {h_range!r}")
+    low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
+    if pair[0] < low - 1e-12 or pair[1] > high + 1e-12:
+        raise ValueError(f"h_range {tuple(pair)} m leaves the design range [{low}, {high}] m of the spacecraft parameters: "
+                         "widen truss.h_range in the parameters (lib/trusscodesign/data/spacecraft/parameters.json, or the params passed)")
+
+
+def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequence[float], seed: int, pso_rule: str,
+                         synthesis_options: dict | None, objective: dict, start: str = "previous_best",
+                         h_resolution: float | None = None) -> str | None:
+    """Why the swarm checkpoint stored at ``checkpoint`` cannot be resumed by a run with these settings (None if it can):
+    another synthesis version or options, another objective (:func:`_objective_key`: what changed is named), or
+    another swarm (size, seed, range or rule), another start rule or h resolution."""
+    from . import pso
+
+    state = pso.load_state(checkpoint)
+    found = state.extra.get("algorithm")
+    if found != synthesis.ALGORITHM:
+        return f"it was computed by the synthesis {found!r}, not the current {synthesis.ALGORITHM!r}"
+    if _normalised_options(state.extra.get("options")) != _normalised_options(synthesis_options):
+        return f"it was computed with synthesis options {state.extra.get('options')!r}, not {synthesis_options!r}"
+    stored = state.extra.get("objective", {})
+    if not _same_objective(stored, objective):
+        return f"it was computed for another objective ({_changes(stored, objective)})"
+    stored_start = (state.extra.get("start", "previous_best"), state.extra.get("h_resolution"))
+    if stored_start != (start, h_resolution):
+        return f"it was computed with start {stored_start[0]!r} and h_resolution {stored_start[1]!r}, not {start!r} and {h_resolution!r}"
+    if not pso.same_run(state, n_particles, [h_range[0]], [h_range[1]], seed, pso_rule):
+        return (f"it is from another swarm (n_particles={state.n}, seed={state.seed}, h range [{state.lower[0]}, "
+                f"{state.upper[0]}] m, rule {state.rule!r})")
+    return None
+
+
+def distinct_evaluations(history: Sequence[Mapping[str, Any]], start: str = "previous_best") -> list[Mapping[str, Any]]:
+    """The records of a swarm's distinct evaluations, one per evaluation however many particles shared it.
+
+    With ``start="cold"`` an evaluation is a function of h: one per distinct h of the whole run (some may have been
+    made by a grid of the same key). With ``"previous_best"`` particles share only within an iteration
+    (:func:`evaluate_swarm`'s ``shared_with``).
+    """
+    if start not in START_RULES:
+        raise ValueError(f"start must be one of {list(START_RULES)}, got {start!r}")
+    return list({r["h"]: r for r in history}.values()) if start == "cold" else [r for r in history if "shared_with" not in r]
+
+
+def evaluation_counts(history: Sequence[Mapping[str, Any]], start: str = "previous_best") -> dict[str, int]:
+    """How a swarm's particles were evaluated: ``particles``, ``distinct`` evaluations (:func:`distinct_evaluations`),
+    ``shared`` (particles that reused another's), ``failed`` (distinct evaluations failed or penalised) and
+    ``failed_particles``."""
+    own = distinct_evaluations(history, start)
+    bad = lambda r: not str(r.get("status", "")).startswith("ok")  # noqa: E731
+    return {"particles": len(history), "distinct": len(own), "shared": len(history) - len(own),
+            "failed": sum(map(bad, own)), "failed_particles": sum(map(bad, history))}
+
+
+def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
+                 client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
+                 m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
+                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None, pso_rule: str = "documented",
+                 on_stale: str = "refuse", truss_tolerance: float = 0.0, start: str = "previous_best",
+                 h_resolution: float | None = None):
+    """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
+
+    Parameters
+    ----------
+    n_particles, n_iterations : int
+        Swarm size and iterations (paper: 24 and 20).
+    h_range : tuple of float
+        Design range of h [m] (paper: [0.015, 0.03]).
+    seed : int
+        Seed of the swarm (the run is reproducible, whatever the number of workers).
+    client : dask.distributed.Client, optional
+        Where the particles are evaluated (default: sequentially in this process).
+    checkpoint : path, optional
+        State file written after each iteration; an interrupted run resumes from it.
+    fail_particles : sequence of (iteration, particle)
+        Inject failures (tests): those evaluations raise inside the worker.
+    stop_after : int, optional
+        Stop after this many iterations (tests of the resume).
+    log : callable
+        Receives the one-line summary of each iteration.
+    synthesis_options : dict, optional
+        Passed to the synthesis of every particle (default :data:`SYNTHESIS_OPTIONS`).
+    pso_rule : {"documented", "matlab"}
+        MATLAB ``particleswarm``'s adaptive rules as documented (default; the stored swarms) or as its code applies
+        them (:mod:`trusscodesign.study.pso`); a checkpoint is only resumed with the rule it was started with.
+    on_stale : {"refuse", "restart"}
+        What to do with a checkpoint that this run cannot resume (another synthesis, objective or swarm: edited
+        spacecraft parameters, say): raise a ValueError naming what changed (default), or set it aside as
+        ``<checkpoint>.stale.json``, log what changed and start afresh (notebook 07: a rerun after an edit recomputes).
+    truss_tolerance : float
+        Relative section-side error every particle's design must survive (:func:`evaluate_particle`; default 0, the
+        paper's recipe).
+    start : {"previous_best", "cold"}
+        How each particle's synthesis starts (:data:`START_RULES`). With "cold" every evaluation is kept in
+        :func:`evaluations_path` of the checkpoint under :func:`evaluation_key`, and reused by any later particle at
+        the same h.
+    h_resolution : float, optional
+        Positions are evaluated at the nearest multiple of this [m] (a manufacturing resolution of the section side);
+        default None: as they are.
+
+    Returns
+    -------
+    trusscodesign.study.pso.SwarmState
+        With ``history`` (every particle: h, f, J_c, Z_c, mass, status, gain, times; ``shared_with`` when it shared
+        the evaluation of an earlier particle at the same h) and ``extra``: ``best_gain``, ``best_scenarios`` (the
+        warm start of the next iteration) and ``iteration_wall_s`` (wall time of each iteration [s]).
+    """
+    from . import pso
+
+    check_option("n_particles", n_particles, 2, integer=True)
+    check_option("n_iterations", n_iterations, 1, integer=True)
+    _check_h_range(h_range, params)
+    objective_value(1.0, 0.0, m0)  # m0 checked now, not after the first particle's synthesis
+    _check_synthesis_options(synthesis_options)  # likewise: a bad option would fail every particle of every iteration
+    tolerance_shifts(truss_tolerance)
+    if on_stale not in ("refuse", "restart"):
+        raise ValueError(f"on_stale must be 'refuse' or 'restart', got {on_stale!r}")
+    if start not in START_RULES:
+        raise ValueError(f"start must be one of {list(START_RULES)}, got {start!r}")
+    if h_resolution is not None:
+        check_option("h_resolution", h_resolution, 1e-7, 1e-3, unit="m")
+        if h_resolution > 0.1 * (h_range[1] - h_range[0]):
+            raise ValueError(f"h_resolution = {h_resolution!r} m is more than a tenth of the h range {tuple(h_range)} m: the swarm "
+                             "would see a few steps of the objective (0.0001 m is 0.1 mm)")
+    params = params or spacecraft.load_parameters()  # read once: the key and every evaluation use these values
+    # one run at a time on a checkpoint: another live run holding it stops this one at once, naming it
+    with run_lock(checkpoint) if checkpoint is not None else nullcontext():
+        objective = _objective_key(settings, params, m0, truss_tolerance)
+        if checkpoint is not None and Path(checkpoint).exists():
+            reason = _checkpoint_mismatch(checkpoint, n_particles, h_range, seed, pso_rule, synthesis_options, objective,
+                                          start, h_resolution)
+            if reason is not None and on_stale == "refuse":
+                raise ValueError(f"checkpoint {checkpoint} cannot be resumed by this run: {reason}. Pass another checkpoint "
+                                 "path (results_dir), delete it to recompute, or on_stale='restart' to set it aside and start afresh")
+            if reason is not None:  # "restart": kept beside, never overwritten by the new run
+                aside = Path(checkpoint).with_name(Path(checkpoint).stem + ".stale.json")
+                os.replace(checkpoint, aside)
+                partial_path(checkpoint).unlink(missing_ok=True)  # (the stale run's evaluations, keyed on it)
+                log(f"checkpoint {checkpoint} set aside as {aside.name}, and the swarm starts afresh: {reason}")
+
+        def evaluate(x: NDArray, state) -> list[dict]:
+            t0 = time.perf_counter()
+            state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, synthesis_options, objective
+            if start != "previous_best" or h_resolution is not None:  # (absent: the runs stored before they existed)
+                state.extra["start"], state.extra["h_resolution"] = start, h_resolution
+            fails = [p for it, p in fail_particles if it == state.iteration]
+            if start == "cold":  # one file of every evaluation, kept: a particle at an h evaluated before reuses it
+                gain0, scen0 = None, None
+                part = None if checkpoint is None else evaluations_path(checkpoint)
+                key = evaluation_key(settings, params, m0, synthesis_options, truss_tolerance)
+            else:  # the previous iteration's best particle (None: all gains at -1); a file of this iteration's evaluations
+                gain0, scen0 = state.extra.get("best_gain"), state.extra.get("best_scenarios")
+                part = None if checkpoint is None else partial_path(checkpoint)
+                key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
+                       "objective": objective, "options": synthesis_options}
+            recs = evaluate_swarm([on_resolution(float(v[0]), h_resolution, h_range) for v in x], gain0, client, settings,
+                                  params, m0, fails, progress, synthesis_options=synthesis_options, scenarios0=scen0,
+                                  partial=part, partial_key=key, truss_tolerance=truss_tolerance)
+            ok = [r for r in recs if r["gain"] is not None and not str(r.get("status", "")).startswith("failed")]
+            if ok:  # (a failed synthesis's gain never becomes the warm start: the previous one is kept)
+                best = min(ok, key=lambda r: r["f"])
+                state.extra["best_gain"], state.extra["best_scenarios"] = best["gain"], best["scenarios"]
+            wall = time.perf_counter() - t0
+            if part is not None and start == "previous_best":  # with the time spent on this iteration before an interruption
+                wall = max(wall, _read_partial(part, key)["time_s"])
+            state.extra["iteration_wall_s"] = state.extra.get("iteration_wall_s", []) + [wall]
+            return recs
+
+        def summary(state) -> None:  # called once the iteration is in the checkpoint
+            if checkpoint is not None and start == "previous_best":
+                partial_path(checkpoint).unlink(missing_ok=True)
+            it = [r for r in state.history if r["iteration"] == state.iteration - 1]
+            best = min(it, key=lambda r: r["f"])
+            failed = sum(not str(r.get("status", "")).startswith("ok") for r in it)
+            log(f"iteration {state.iteration}/{n_iterations}: best of iteration h = {100 * best['h']:.4f} cm, J_c = {best['J_c']:.4f}, "
+                f"f^n = {best['f']:.5f}; swarm best f^n = {state.g_f:.5f} at h = {100 * state.g[0]:.4f} cm; {failed} failed/penalised")
+
+        return pso.run(evaluate, n_particles, [h_range[0]], [h_range[1]], n_iterations, seed, checkpoint, summary, stop_after, pso_rule)
