@@ -37,6 +37,7 @@ import numpy as np  # noqa: E402
 from _machine import machine_info  # noqa: E402
 from trusscodesign.study import design, robustness  # noqa: E402
 from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
+from trusscodesign.control.synthesis import SynthesisOptions  # noqa: E402
 
 
 # the stored co-design grid (notebook 07: ball trust region, least-change restoration, fast path)
@@ -68,7 +69,7 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
         m = design.models_at(h0 + step)
         poles = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), rec["gain"]).poles() for sc in scen]
         zeta = min(float(np.min(-lam.real / np.abs(lam))) for lam in poles)
-        r = design.robust_design(m, settings, gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)
+        r = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS, gain0=rec["gain"], scenarios=scen)
         optimiser_steps = [e for e in r.history if e.get("phase") != "stabilise"]
         out[f"+{1e3 * step:g}mm"] = dict(start_max_real=max(float(lam.real.max()) for lam in poles), start_min_damping=zeta,
                                          time_s=r.time_s, iterations=r.iterations, J_c=r.j_c, Z_c=r.z_c, success=r.success,
@@ -97,16 +98,17 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
 
     m0 = design.models_at(h0)
     # one restart if the source fails (measured on an Intel machine: the fast-path source stopped after 6 rounds, Z_c 1.23)
-    src = design.robust_design(m0, settings, variants=design.truss_variants(m0, shifts), fast=fast_source, restarts=1)
+    src = design.robust_design(m0, settings, SynthesisOptions(fast=fast_source, restarts=1),
+                               variants=design.truss_variants(m0, shifts))
     m = design.models_at(h)
     peaks = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), src.gain) for sc in synthesis.default_scenarios()]
-    r = design.robust_design(m, settings, gain0=src.gain, **codesign.SYNTHESIS_OPTIONS)
-    fast = design.robust_design(m, settings, gain0=src.gain, fast=True, **codesign.SYNTHESIS_OPTIONS)
+    r = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS, gain0=src.gain)
+    fast = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS.replace(fast=True), gain0=src.gain)
     print(f"warm start from the truss-tolerant design: dense {r.time_s:.1f} s ({r.iterations} it, J_c {r.j_c:.5f}), "
           f"fast {fast.time_s:.1f} s ({fast.iterations} it, J_c {fast.j_c:.5f}, {fast.fallbacks} fallbacks)")
     # the warm start a co-design makes: the source's gain and its final scenario set (notebook 07's Step 3)
-    with_set = {path: _row(design.robust_design(m, settings, gain0=src.gain, scenarios=src.scenarios, fast=path == "fast",
-                                                **codesign.SYNTHESIS_OPTIONS)) for path in ("dense", "fast")}
+    with_set = {path: _row(design.robust_design(m, settings, codesign.CODESIGN_OPTIONS.replace(fast=path == "fast"),
+                                                gain0=src.gain, scenarios=src.scenarios)) for path in ("dense", "fast")}
     print("with the source's scenario set: " + ", ".join(f"{path} {row['time_s']:.1f} s ({row['iterations']} it, "
                                                            f"{row['searches']} searches, J_c {row['J_c']:.5f})"
                                                            for path, row in with_set.items()))
@@ -125,14 +127,15 @@ def _fast_against_dense(settings: LoopSettings) -> dict:
     from trusscodesign.study import codesign
 
     m = design.models_at(0.02139)
-    near = design.robust_design(design.models_at(0.020), settings, fast=True)
+    near = design.robust_design(design.models_at(0.020), settings, SynthesisOptions(fast=True))
     rec, scen = grid_design(0.021)
-    cases = {"cold_2.139cm": {},
-             "warm_from_h_2.0cm": dict(gain0=near.gain),
-             "warm_from_grid_2.1cm_codesign_tol": dict(gain0=rec["gain"], scenarios=scen, **codesign.SYNTHESIS_OPTIONS)}
+    cases = {"cold_2.139cm": (SynthesisOptions(), {}),
+             "warm_from_h_2.0cm": (SynthesisOptions(), dict(gain0=near.gain)),
+             "warm_from_grid_2.1cm_codesign_tol": (codesign.CODESIGN_OPTIONS, dict(gain0=rec["gain"], scenarios=scen))}
     out = {}
-    for name, kw in cases.items():
-        out[name] = {path: _row(design.robust_design(m, settings, fast=path == "fast", **kw)) for path in ("dense", "fast")}
+    for name, (opts, kw) in cases.items():
+        out[name] = {path: _row(design.robust_design(m, settings, opts.replace(fast=path == "fast"), **kw))
+                     for path in ("dense", "fast")}
         d, f = out[name]["dense"], out[name]["fast"]
         print(f"{name}: dense {d['time_s']:.1f} s ({d['iterations']} it, J_c {d['J_c']:.5f}), fast {f['time_s']:.1f} s "
               f"({f['iterations']} it, J_c {f['J_c']:.5f}, {f['fallbacks']} fallbacks): x{d['time_s'] / f['time_s']:.2f}")
@@ -171,7 +174,7 @@ def main() -> None:
                                     Z_c=warm.z_c, success=warm.success, scenarios=len(warm.scenarios))
     from trusscodesign.study import codesign
 
-    co = design.robust_design(m, settings, gain0=near.gain, scenarios=near.scenarios, **codesign.SYNTHESIS_OPTIONS)
+    co = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS, gain0=near.gain, scenarios=near.scenarios)
     out["warm_from_h_2.0cm_with_scenarios_codesign_tol"] = dict(time_s=co.time_s, iterations=co.iterations,
                                                                 evaluations=co.evaluations, J_c=co.j_c, Z_c=co.z_c,
                                                                 success=co.success, scenarios=len(co.scenarios))
@@ -180,8 +183,8 @@ def main() -> None:
     out["warm_from_truss_tolerant_2.1cm_fast_source"] = _warm_from_tolerant(settings, fast_source=True)
     out["fast_against_dense"] = _fast_against_dense(settings)
     m25 = design.models_at(0.025)
-    for name, opts in (("cold_2.5cm_default_tol", {}), ("cold_2.5cm_codesign_tol", codesign.SYNTHESIS_OPTIONS)):
-        r = design.robust_design(m25, settings, **opts)
+    for name, opts in (("cold_2.5cm_default_tol", SynthesisOptions()), ("cold_2.5cm_codesign_tol", codesign.CODESIGN_OPTIONS)):
+        r = design.robust_design(m25, settings, opts)
         out[name] = dict(time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations, J_c=r.j_c, Z_c=r.z_c,
                          success=r.success, scenarios=len(r.scenarios))
     taus = np.linspace(0.0, 1.0, args.n_tau)

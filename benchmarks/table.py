@@ -34,9 +34,6 @@ def rows(results: Path = HERE / "results") -> list[tuple[str, str, str, str, str
     r = _load("robust_synthesis", results)
     m = _load("mu_sweep", results)
     c = _load("codesign_stated", results)
-    w = _load("warm_search", results)
-    ref, all7 = w["summary"]["warm"]["reference"], w["summary"]["warm"]["+ carried history, stall 3"]
-    cold_ref, cold_all7 = w["summary"]["cold"]["reference"], w["summary"]["cold"]["+ carried history, stall 3"]
     e = c["per_evaluation_s"]
     return [
         ("`build_open_loop.py`", "model build and reduction at one h", "`python benchmarks/build_open_loop.py`",
@@ -50,14 +47,6 @@ def rows(results: Path = HERE / "results") -> list[tuple[str, str, str, str, str
          f"the 2.0 cm gain {r['warm_from_h_2.0cm']['time_s']:.1f} s, with its scenario set and the co-design's tolerance "
          f"{r['warm_from_h_2.0cm_with_scenarios_codesign_tol']['time_s']:.1f} s; mu {r['mu_per_angle_s']:.1f} s per angle",
          _machine(r["machine"]), "cold under 60 s"),
-        ("`warm_search.py`", "the co-design's warm starts: 14 from the stored grid's designs to a nearby h, and the cold "
-         "start at 2.139 cm, each alone with two threads; notebook 07's options, then seven options added in turn",
-         "`python benchmarks/warm_search.py`",
-         f"notebook 07's options: median {ref['median_time_s']:.1f} s (max {ref['max_time_s']:.1f} s), "
-         f"{ref['under_10_s']} of {ref['runs']} under 10 s, {ref['valid']} valid; all seven options: median "
-         f"{all7['median_time_s']:.1f} s (max {all7['max_time_s']:.1f} s), {all7['under_10_s']} of {all7['runs']} under "
-         f"10 s, {all7['valid']} valid; cold {cold_ref['median_time_s']:.1f} s and {cold_all7['median_time_s']:.1f} s",
-         _machine(w["machine"]), "warm start under 10 s"),
         ("`mu_sweep.py`", "notebook 08's mu sweep (50 panel angles) in one process and on Dask workers",
          "`python benchmarks/mu_sweep.py`",
          f"{m['in_process_s']:.1f} s in one process, {m['dask_s']:.1f} s on {m['workers']} workers "

@@ -192,9 +192,10 @@ def test_fast_synthesis_takes_the_dense_path_decisions(model, inertia):
     equal to 1e-5 and gains to 1e-4 of the largest entry (the LP's vertex moves with the 1e-7-level differences of the
     gradients; measured: 4.6e-5 and J equal to 2e-7). The fast path's result is re-evaluated densely at the end."""
     scen = [Scenario(), Scenario(1.0, 1.0, 1.0, np.deg2rad(90.0))]
-    kw = dict(scenarios=scen, max_rounds=1, max_iter=12, workers=1)
-    dense = synthesis.synthesize(model, inertia, ST, **kw)
-    fast = synthesis.synthesize(model, inertia, ST, fast=True, **kw)
+    kw = dict(scenarios=scen, workers=1)
+    opts = synthesis.SynthesisOptions(max_rounds=1, max_iter=12)
+    dense = synthesis.synthesize(model, inertia, ST, opts, **kw)
+    fast = synthesis.synthesize(model, inertia, ST, opts.replace(fast=True), **kw)
     assert fast.iterations == dense.iterations
     assert [e["phase"] for e in fast.history] == [e["phase"] for e in dense.history]
     assert np.abs(fast.gain - dense.gain).max() <= 1e-4 * np.abs(dense.gain).max()

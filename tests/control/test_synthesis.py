@@ -8,7 +8,7 @@ import pytest
 import slycot
 from trusscodesign.control import synthesis
 from trusscodesign.control.closedloop import LoopSettings
-from trusscodesign.control.synthesis import Scenario, plant_at
+from trusscodesign.control.synthesis import Scenario, SynthesisOptions, plant_at
 from trusscodesign.model import spacecraft
 from trusscodesign.model.lft import LFT
 from trusscodesign.study import robustness
@@ -75,56 +75,6 @@ def test_nested_grid_refinement_of_several_brackets():
         assert alone[0][0] == values[j] and alone[1][0] == logw[j]
 
 
-def test_parabolic_refinement_of_several_brackets():
-    """Closed form as above, from a grid point and its neighbours (the peak-aware grid's ``w_d (1 +- zeta)`` and
-    ``w_d``, each moved off the peak so that the vertex has work to do): 8 parabolic steps find each peak to 1e-10 and
-    are never below the zoom's 85 points by more than 1e-12 relative."""
-    lams = [-1e-3 * w + 1j * w * np.sqrt(1 - 1e-6) for w in (0.7, 4.0, 97.7)]
-
-    def mag(lam, logw):
-        return np.abs(1.0 / (1j * np.exp(logw) - lam))
-
-    x = np.array([np.log(lam.imag * np.array([1 - 1e-3, 1 + 3e-4, 1 + 1e-3])) for lam in lams])
-    f = np.array([mag(lam, row) for lam, row in zip(lams, x)])
-    assert np.all(f[:, 1] >= f[:, [0, 2]].max(axis=1))  # a grid maximum with its neighbours
-
-    def fun(pts):
-        return np.stack([mag(lam, row) for lam, row in zip(lams, pts)])
-
-    values, logw = synthesis._parabolic_max(fun, x, f)
-    zoom, _ = synthesis._zoom_max(fun, x[:, 0], x[:, 2])
-    for j, lam in enumerate(lams):
-        exact = 1.0 / abs(lam.real)
-        assert abs(values[j] / exact - 1) < 1e-10 and values[j] <= exact * (1 + 1e-13)
-        assert x[j, 0] <= logw[j] <= x[j, 2] and abs(np.exp(logw[j]) / lam.imag - 1) < 1e-7
-        assert values[j] >= zoom[j] * (1 - 1e-12)
-    # a flat triple (no vertex) falls back to golden-section steps and stays in its bracket
-    v, lw = synthesis._parabolic_max(lambda pts: np.ones_like(pts), np.array([[0.0, 0.5, 1.0]]), np.ones((1, 3)))
-    assert v[0] == 1.0 and 0.0 <= lw[0] <= 1.0
-
-
-@pytest.mark.parametrize("fast", [False, True])
-def test_parabolic_peaks_equal_the_zoomed_ones_on_the_spacecraft(model, inertia, fast):
-    """On three scenario loops (dense and fast path): every peak ``peak_refine="parabolic"`` finds is the zoom's to
-    1e-9 relative (measured: within 1.2e-10, never below it by more than 2e-14), at the same frequency to 1e-6."""
-    from trusscodesign.control.modalloop import ModalLoop
-
-    for sc in (Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)), Scenario()):
-        p = plant_at(model, sc, inertia, ST)
-        zoom = synthesis.loop_peaks(p, GAIN, min_damping=2e-4, modal=ModalLoop.of(p) if fast else None)
-        para = synthesis.loop_peaks(p, GAIN, min_damping=2e-4, modal=ModalLoop.of(p) if fast else None,
-                                    peak_refine="parabolic")
-        # the poles do not depend on the refinement (each fast call from its own form: the pole iteration starts from a
-        # form's last poles, which would move the second call's by rounding)
-        assert zoom.stable and para.stable and para.abscissa == pytest.approx(zoom.abscissa, rel=1e-12)
-        for group in ("rpe", "effort"):
-            for (vz, wz), (vp, wp) in zip(zoom.peaks[group], para.peaks[group]):
-                assert vp == pytest.approx(vz, rel=1e-9) and vp >= vz * (1 - 1e-12)
-                assert wp == pytest.approx(wz, rel=1e-6)
-    with pytest.raises(ValueError, match="peak_refine"):
-        synthesis.loop_peaks(p, GAIN, peak_refine="golden")
-
-
 def test_plain_grid_misses_the_peak(plant):
     """Why the peak-aware grid: a 2000-point log grid underestimates the closed-loop RPE norm."""
     a, b, c, d = plant.closed_loop_matrices(GAIN)
@@ -167,39 +117,6 @@ def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypa
     for group in synthesis.GROUPS:
         assert own.value[group] == ref.value[group] and own.omega[group] == ref.omega[group]
         assert own.scenario[group] == ref.scenario[group]
-
-
-def test_worst_case_with_cached_modal_forms_equals_the_dense_search(model, inertia):
-    """A grid evaluated by the fast path (its modal forms kept in the caller's dict and reused, the same objects, by the
-    next search at another gain) returns what the dense search returns, on two threads with two refinements per group:
-    the refinements' starts are evaluated again densely, and so are the unstable candidates (the first gain leaves all
-    27 stable, the second 9 unstable), listed in the grid's order."""
-    kw = dict(thetas_deg=[0.0, 70.0, 140.0], refine=2, max_evals=8, workers=2, min_damping=1.5e-4)
-    forms: dict = {}
-    for gain, n_unstable in ((GAIN, 0), (-GAIN, 9)):
-        dense = synthesis.worst_case(model, gain, inertia, ST, **kw)
-        before = {k: id(v) for k, v in forms.items()}
-        fast = synthesis.worst_case(model, gain, inertia, ST, modal_forms=forms, **kw)
-        assert len(dense.unstable) == n_unstable and len(forms) == 27  # 8 corners and the nominal x 3 angles
-        assert all(id(forms[k]) == v for k, v in before.items())  # built once
-        for group in synthesis.GROUPS:  # to rounding: in one CI run (two test processes, two threads per search) the
-            # two searches' worst J differed by 1.2e-10 relative (equal to the last bit in local runs); cause not found
-            assert fast.value[group] == pytest.approx(dense.value[group], rel=1e-9, abs=0)
-            assert fast.omega[group] == pytest.approx(dense.omega[group], rel=1e-7)
-            assert np.allclose(fast.scenario[group].vector(), dense.scenario[group].vector(), rtol=0, atol=1e-9)
-        assert [sc.vector().tobytes() for sc in fast.unstable] == [sc.vector().tobytes() for sc in dense.unstable]
-
-
-def test_worst_case_with_modal_forms_evaluates_close_calls_again(model, inertia, monkeypatch):
-    """A candidate the fast path finds stable but near the requirement is evaluated again densely: with the band made
-    wide enough to hold every pole, every grid candidate is, on top of the dense search's own evaluations."""
-    kw = dict(thetas_deg=[0.0, 90.0], refine=1, max_evals=4, workers=1, min_damping=1.5e-4)
-    dense = synthesis.worst_case(model, GAIN, inertia, ST, **kw)
-    narrow = synthesis.worst_case(model, GAIN, inertia, ST, modal_forms={}, **kw)
-    monkeypatch.setattr(synthesis, "_CLOSE_CALL", 1.0)
-    wide = synthesis.worst_case(model, GAIN, inertia, ST, modal_forms={}, **kw)
-    assert narrow.evaluations < dense.evaluations + 18 == wide.evaluations
-    assert wide.value == dense.value and wide.scenario == dense.scenario
 
 
 def test_scenarios():
@@ -417,21 +334,21 @@ def test_robust_design_keeps_every_variant_spillover_loop(monkeypatch):
 
     seen = {}
     monkeypatch.setattr(design, "plant_at", lambda m, sc, inertia, settings: ("plant", m))
-    monkeypatch.setattr(design, "synthesize", lambda g_r, inertia, settings, **kw: seen.update(kw, g_r=g_r))
+    monkeypatch.setattr(design, "synthesize", lambda g_r, inertia, settings, options, **kw: seen.update(kw, g_r=g_r, options=options))
     base = design.DesignModels(0.02, "G_r", "G_r_low", "check", np.eye(3), 60.0, 0.0)
     shifted = design.DesignModels(0.0202, "G_r+1%", "G_r_low+1%", "check+1%", 2 * np.eye(3), 61.2, 0.0)
     design.robust_design(base, ST, variants=[shifted])
     assert seen["stability_models"] == [("plant", "check"), ("plant", "check+1%")]
     assert seen["g_r"] == "G_r" and len(seen["variants"]) == 1 and seen["variants"][0][0] == "G_r+1%"
-    assert np.array_equal(seen["variants"][0][1], 2 * np.eye(3)) and seen["omega_check"] == 500.0
-    design.robust_design(base, ST, variants=[shifted], spillover=False)
+    assert np.array_equal(seen["variants"][0][1], 2 * np.eye(3)) and seen["options"].omega_check == 500.0
+    design.robust_design(base, ST, SynthesisOptions(spillover=False), variants=[shifted])
     assert seen["stability_models"] == []
     # the spillover modes keep half the truss damping of the parameters: 5e-4 for the paper's 1e-3, 5e-5 for 1e-4
-    assert seen["min_damping"] == 5e-4
+    assert seen["options"].min_damping == 5e-4
     design.robust_design(replace(base, truss_damping=1e-4), ST)
-    assert seen["min_damping"] == 5e-5
-    design.robust_design(replace(base, truss_damping=1e-4), ST, min_damping=2e-4)
-    assert seen["min_damping"] == 2e-4
+    assert seen["options"].min_damping == 5e-5
+    design.robust_design(replace(base, truss_damping=1e-4), ST, SynthesisOptions(min_damping=2e-4))
+    assert seen["options"].min_damping == 2e-4
 
 
 def _result(gain, success, message, n=1):
@@ -448,7 +365,7 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
     calls = []
     outcomes = []
 
-    def fake(g_r, inertia, settings, gain0=None, **kw):
+    def fake(g_r, inertia, settings, options, gain0=None, **kw):
         calls.append((None if gain0 is None else float(np.asarray(gain0)[0, 0]), kw.get("scenarios")))
         return outcomes[len(calls) - 1]
 
@@ -456,7 +373,7 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
     base = design.DesignModels(0.02, "G_r", "G_r_low", "check", np.eye(3), 60.0, 0.0)
     stop = "stopped after 6 rounds with the worst-case search still finding worse scenarios"
     outcomes[:] = [_result(-3.0, False, stop), _result(-4.0, False, stop, 2), _result(-5.0, True, "converged", 3)]
-    res = design.robust_design(base, ST, gain0=-np.ones((4, 8)), spillover=False, restarts=2, scenarios=["s"])
+    res = design.robust_design(base, ST, SynthesisOptions(spillover=False, restarts=2), gain0=-np.ones((4, 8)), scenarios=["s"])
     assert calls == [(-1.0, ["s"]), (-3.0, ["s"]), (-4.0, ["s"])]
     assert res.success and res.restarts == 2 and res.gain[0, 0] == -5.0
     assert (res.iterations, res.time_s, res.evaluations, res.fallbacks, res.searches) == (60, 6.0, 600, 6, 12)
@@ -466,19 +383,19 @@ def test_robust_design_restarts_a_failed_synthesis_from_its_final_gain(monkeypat
                                      (3, _result(-1.0, False, "could not stabilise every scenario from the starting gain"), 1)):
         calls.clear()
         outcomes[:] = [first, _result(-9.0, True, "converged")]
-        res = design.robust_design(base, ST, spillover=False, restarts=restarts)
+        res = design.robust_design(base, ST, SynthesisOptions(spillover=False, restarts=restarts))
         assert len(calls) == n_calls and res is first and res.restarts == 0
     # the gain moved before a later round failed to stabilise the scenarios its search added: worth a restart
     calls.clear()
     outcomes[:] = [_result(-3.0, False, "could not stabilise the scenarios the worst-case search added in round 1"),
                    _result(-9.0, True, "converged")]
-    res = design.robust_design(base, ST, spillover=False, restarts=1)
+    res = design.robust_design(base, ST, SynthesisOptions(spillover=False, restarts=1))
     assert calls == [(None, None), (-3.0, None)] and res.success and res.restarts == 1
     with pytest.raises(ValueError, match="restarts must be an integer in \\[0, inf\\)"):
-        design.robust_design(base, ST, spillover=False, restarts=-1)
+        SynthesisOptions(restarts=-1)
     for bad in (1.5, True, "2"):  # wrong types: TypeError, as every option of the synthesis
         with pytest.raises(TypeError, match="restarts must be an integer"):
-            design.robust_design(base, ST, spillover=False, restarts=bad)
+            SynthesisOptions(restarts=bad)
 
 
 def test_truss_shift_check_judges_validity_beyond_the_design_range(monkeypatch):
@@ -519,19 +436,40 @@ def test_truss_shift_check_judges_validity_beyond_the_design_range(monkeypatch):
 
 
 @pytest.mark.parametrize("option, value, error", [
-    ("max_iter", 0, ValueError), ("max_rounds", 2.5, TypeError), ("tol", 0.0, ValueError), ("band", 1.5, ValueError),
-    ("margin", 1.0, ValueError), ("min_damping_all", -1e-4, ValueError), ("search_damping", 2.0, ValueError),
-    ("radius0", float("nan"), ValueError), ("workers", 0, ValueError), ("min_decay", "1e-7", TypeError),
+    ("max_iter", 0, ValueError), ("max_rounds", 2.5, TypeError), ("tol", 0.0, ValueError), ("min_damping", 1.0, ValueError),
+    ("min_damping_all", -1e-4, ValueError), ("omega_check", -1.0, ValueError), ("omega_check", "500", TypeError),
     ("trust_region", "sphere", ValueError), ("trust_region", None, ValueError), ("restoration", "smallest", ValueError),
-    ("max_unstable", 0, ValueError), ("max_unstable", 1.5, TypeError), ("search_max_evals", 0, ValueError),
-    ("fast_search", "yes", TypeError), ("peak_refine", "golden", ValueError), ("processes", 1, TypeError),
-    ("processes", True, ValueError), ("stall_steps", 0, ValueError), ("stall_steps", 2.5, TypeError),
-    ("stall_steps", True, TypeError), ("carry_history", "yes", TypeError), ("carry_history", 1, TypeError),
-    ("tol", float("inf"), ValueError), ("tol", 1.0, ValueError)])
-def test_synthesis_options_are_checked_before_any_work(option, value, error):
-    """A bad option is named with its allowed range before any model is touched (the model here is not even one)."""
+    ("fast", "yes", TypeError), ("spillover", 1, TypeError), ("restarts", -1, ValueError), ("restarts", 1.5, TypeError),
+    ("search_thetas_deg", [0.0, 200.0], ValueError), ("tol", float("inf"), ValueError), ("tol", 1.0, ValueError)])
+def test_synthesis_options_are_checked_when_created(option, value, error):
+    """A bad option is named with its allowed range when the options are created, before any model is touched."""
     with pytest.raises(error, match=option):
-        synthesis.synthesize(None, np.eye(3), **{option: value})
+        SynthesisOptions(**{option: value})
+
+
+def test_synthesize_checks_its_own_arguments_before_any_work():
+    """The options must be a SynthesisOptions (an old keyword is a TypeError naming it), the workers a count."""
+    with pytest.raises(TypeError, match="SynthesisOptions"):
+        synthesis.synthesize(None, np.eye(3), LoopSettings(), {"tol": 1e-2})
+    with pytest.raises(TypeError, match="band"):
+        synthesis.synthesize(None, np.eye(3), band=0.5)
+    with pytest.raises(ValueError, match="workers"):
+        synthesis.synthesize(None, np.eye(3), workers=0)
+
+
+def test_options_key_holds_what_differs_from_the_defaults_and_reads_back():
+    """The key stored results record: the co-design's options as notebook 07's stored runs hold them; a key with an
+    option this version no longer has is refused by name."""
+    assert SynthesisOptions().key() == {}
+    stored = {"tol": 0.01, "fast": True, "trust_region": "ball", "restoration": "least_change"}
+    opts = SynthesisOptions(tol=0.01, fast=True, trust_region="ball", restoration="least_change")
+    assert opts.key() == stored and SynthesisOptions.from_key(stored) == opts
+    assert SynthesisOptions(search_thetas_deg=[0, 90]).key() == {"search_thetas_deg": [0.0, 90.0]}
+    assert SynthesisOptions.from_key(None) == SynthesisOptions()
+    with pytest.raises(TypeError, match="stall_steps"):
+        SynthesisOptions.from_key({"tol": 0.01, "stall_steps": 3})
+    with pytest.raises(AttributeError):
+        opts.tol = 0.02  # frozen: one object shared by every particle cannot change under them
 
 
 @pytest.mark.parametrize("option, value, error", [
@@ -598,25 +536,13 @@ def test_uncovered_adds_unstable_and_worse_scenarios_only():
         return synthesis.WorstCase({"rpe": j, "effort": z}, {"rpe": s_j, "effort": s_z}, {"rpe": 1.0, "effort": 2.0}, 1, list(unstable))
 
     state = _SetValues(0.10, 0.90)
-    assert synthesis._uncovered(state, search(0.1009, 0.95), 1.0, 0.01, 0.02) == []  # J within 1 %, Z below 0.98
-    assert synthesis._uncovered(state, search(0.1011, 0.95), 1.0, 0.01, 0.02) == [s_j]
-    assert synthesis._uncovered(state, search(0.10, 0.985), 1.0, 0.01, 0.02) == [s_z]  # above 0.98 and 1.01 x 0.90
-    assert synthesis._uncovered(_SetValues(0.1, 0.99), search(0.10, 0.995), 1.0, 0.01, 0.02) == []  # within 1 % of the set's Z
-    assert synthesis._uncovered(state, search(0.10, 0.5, [s_u, s_v]), 1.0, 0.01, 0.02) == [s_u]
+    assert synthesis._uncovered(state, search(0.1009, 0.95), 1.0) == []  # J within 1 %, Z below 0.98
+    assert synthesis._uncovered(state, search(0.1011, 0.95), 1.0) == [s_j]
+    assert synthesis._uncovered(state, search(0.10, 0.985), 1.0) == [s_z]  # above 0.98 and 1.01 x 0.90
+    assert synthesis._uncovered(_SetValues(0.1, 0.99), search(0.10, 0.995), 1.0) == []  # within 1 % of the set's Z
+    assert synthesis._uncovered(state, search(0.10, 0.5, [s_u, s_v]), 1.0) == [s_u]
     both = synthesis.WorstCase({"rpe": np.inf, "effort": np.inf}, {"rpe": s_u, "effort": s_u}, {"rpe": 1.0, "effort": 1.0}, 1, [s_u])
-    assert synthesis._uncovered(state, both, 1.0, 0.01, 0.02) == [s_u]
-
-
-def test_uncovered_adds_several_distinct_unstable_scenarios_when_asked():
-    """``max_unstable``: up to that many unstable scenarios, in the search's order, one of any two within _NEAR."""
-    s_u, s_v, s_w = Scenario(0, 1.0, 0, 0.3), Scenario(0, -1.0, 0, 0.4), Scenario(0, 1.0, 0, 1.2)
-    near_u = Scenario(0.05, 0.95, 0, 0.3 + np.deg2rad(4.0))
-    search = synthesis.WorstCase({"rpe": np.inf, "effort": np.inf}, {"rpe": s_u, "effort": s_u}, {"rpe": 1.0, "effort": 1.0}, 1,
-                                 [s_u, near_u, s_v, s_w])
-    state = _SetValues(0.10, 0.90)
-    assert synthesis._uncovered(state, search, 1.0, 0.01, 0.02) == [s_u]
-    assert synthesis._uncovered(state, search, 1.0, 0.01, 0.02, max_unstable=2) == [s_u, s_v]
-    assert synthesis._uncovered(state, search, 1.0, 0.01, 0.02, max_unstable=10) == [s_u, s_v, s_w]
+    assert synthesis._uncovered(state, both, 1.0) == [s_u]
 
 
 def test_per_group_evaluates_each_point_with_its_own_group():
@@ -646,7 +572,6 @@ def test_ball_trust_region_keeps_an_interior_optimum_and_the_elastic_rows():
     assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5]), shape="ball") is None
     d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0, shape="ball")
     assert np.allclose([d[0], t, s], [-0.25, -0.25, 0.75], atol=1e-6)
-
 
 
 def _socp_by_cvxpy(objective, constraints, radius, soft, penalty):
@@ -750,7 +675,7 @@ def test_stabilise_restores_a_warm_start_that_is_unstable_at_the_new_h(model, in
     fresh dense evaluation of the returned gain (not a stale or a modal one)."""
     scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
     plants = [plant_at(model, s, inertia, ST) for s in scs]
-    prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4)
+    prob = _problem(plants, tol=2e-3, min_damping_all=2e-4)
     start = prob.evaluate_all(scale * _grid_gain(0.021))
     assert start.abscissa() > 0.1 and not start.stable()
     end = synthesis._stabilise(prob, start)
@@ -770,7 +695,7 @@ def test_stabilise_restores_a_warm_start_that_is_unstable_at_the_new_h(model, in
 def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
     """A start already stable at every plant is returned as is, with no iteration counted."""
     plants = [plant_at(model, Scenario(), inertia, ST)]
-    prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4)
+    prob = _problem(plants, tol=2e-3, min_damping_all=2e-4)
     start = prob.evaluate_all(-np.ones((4, 8)))
     assert start.stable()
     assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
@@ -794,10 +719,10 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
     1e-7, SLICOT's ab13dd 8.4e-6 (the ball, in one environment, ended 1.04e-6 below the Hamiltonian norm)."""
     scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
     plants = [plant_at(model, s, inertia, ST) for s in scs]
-    prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4)
+    prob = _problem(plants, tol=1e-2, min_damping_all=2e-4)
     start = synthesis._stabilise(prob, prob.evaluate_all(3.0 * _grid_gain(0.021)))
     assert start.stable() and start.value("effort") > 2.0 * ST.gamma_u
-    prob.trust_region, prob.restoration = shape, restoration
+    prob.opts = prob.opts.replace(trust_region=shape, restoration=restoration)
     n_stab = len(prob.history)
     steps_taken: list[bool] = []
     least = synthesis._least_change
@@ -843,8 +768,8 @@ def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkey
         return lp(*args, **kwargs)
 
     monkeypatch.setattr(synthesis, "_lp", recording)
-    synthesis.synthesize(model, inertia, ST, gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], max_iter=3, max_rounds=1,
-                         search_thetas_deg=[0.0], workers=1, trust_region=region)
+    synthesis.synthesize(model, inertia, ST, SynthesisOptions(max_iter=3, max_rounds=1, search_thetas_deg=[0.0], trust_region=region),
+                         gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], workers=1)
     assert len(shapes) >= 3 and set(shapes) == {region}
 
 
@@ -856,8 +781,7 @@ def test_extend_evaluates_only_the_added_plants_and_equals_a_full_evaluation(mod
     scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)), Scenario(0.3, 0.2, -1.0, 1.0)]
     plants = [plant_at(model, s, inertia, ST) for s in scs]
     checks = [plant_at(model, Scenario(), inertia, ST)]
-    prob = synthesis._Problem(plants[:2], checks, map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4,
-                              fast=fast)
+    prob = _problem(plants[:2], checks=checks, tol=2e-3, min_damping_all=2e-4, fast=fast)
     gain = -np.ones((4, 8))
     first = prob.evaluate_all(gain)
     assert first.stable() and all(x is not None for x in first.extra)
@@ -865,8 +789,7 @@ def test_extend_evaluates_only_the_added_plants_and_equals_a_full_evaluation(mod
     n = prob.evaluations
     ext = prob.extend(first)
     assert prob.evaluations == n + 1 and len(ext.peaks) == 3 and np.array_equal(ext.gain, gain)
-    full = synthesis._Problem(plants, checks, map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=2e-4,
-                              fast=fast).evaluate_all(gain)
+    full = _problem(plants, checks=checks, tol=2e-3, min_damping_all=2e-4, fast=fast).evaluate_all(gain)
     for group in ("rpe", "effort"):
         assert ext.value(group) == pytest.approx(full.value(group), rel=1e-9)
         for a, b in zip(ext.peaks, full.peaks):
@@ -937,8 +860,7 @@ def test_least_change_restoration_moves_the_gain_less_than_the_min_max_step(mode
     gain = _grid_gain(0.021)
     ends = {}
     for mode in ("minmax", "least_change"):
-        prob = synthesis._Problem(plants, [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 2e-3, 1.0, 60, False, min_damping_all=floor,
-                                  restoration=mode)
+        prob = _problem(plants, tol=2e-3, min_damping_all=floor, restoration=mode)
         start = prob.evaluate_all(gain)
         assert not start.stable()
         ends[mode] = synthesis._stabilise(prob, start)
@@ -959,22 +881,28 @@ def test_synthesize_passes_its_restoration_to_the_problem(model, inertia, monkey
         return least(*args, **kwargs)
 
     monkeypatch.setattr(synthesis, "_least_change", recording)
-    kw = dict(gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], max_iter=3, max_rounds=1, search_thetas_deg=[0.0], workers=1)
-    synthesis.synthesize(model, inertia, ST, **kw)
+    kw = dict(gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], workers=1)
+    opts = SynthesisOptions(max_iter=3, max_rounds=1, search_thetas_deg=[0.0])
+    synthesis.synthesize(model, inertia, ST, opts, **kw)
     assert not calls
-    synthesis.synthesize(model, inertia, ST, restoration="least_change", **kw)
+    synthesis.synthesize(model, inertia, ST, opts.replace(restoration="least_change"), **kw)
     assert calls
 
 
-# ---- the stopping test: stall_steps and carry_history (session of 2026-12-05)
+# ---- the stopping test
+def _problem(plants, checks=(), tol: float = 2e-3, min_damping_all: float = 2e-4, **options) -> "synthesis._Problem":
+    """The optimiser's problem on ``plants`` (threads: none), stability-only ``checks`` with no damping floor above 0."""
+    opts = SynthesisOptions(tol=tol, min_damping_all=min_damping_all, **options)
+    return synthesis._Problem(list(plants), list(checks), map, ST.gamma_u, opts, 0.0, 0.0)
+
+
 def _stall(js: list[float], k: int, tol: float) -> list[bool]:
     """Where the stopping test holds along the accepted J values: a relative decrease below ``tol`` over ``k`` steps."""
     return [i >= k and js[i - k] - js[i] < tol * js[i] for i in range(len(js))]
 
 
-def _stall_problem(plants, carry: bool = False, accepted=()):
-    return synthesis._Problem(list(plants), [], map, 1e-7, ST.gamma_u, 0.7, 0.02, 1e-2, 1.0, 60, False, min_damping_all=2e-4,
-                              trust_region="ball", stall_steps=2, carry_history=carry, accepted=list(accepted))
+def _stall_problem(plants):
+    return _problem(plants, tol=1e-2, trust_region="ball")
 
 
 def _optimised(prob, state) -> list[float]:
@@ -987,8 +915,7 @@ def _optimised(prob, state) -> list[float]:
 @pytest.fixture(scope="module")
 def stall_round(model, inertia):
     """Two scenario plants at 2.139 cm, the 2.1 cm grid gain stabilised (Z = 1.29, J = 0.038, measured), then one
-    optimisation with ``stall_steps = 2`` (one feasibility step, then 11 steps, J 0.0198 to 0.0135, measured): the
-    plants, the start, the problem after it and the state it ended at."""
+    optimisation: the plants, the start, the problem after it and the state it ended at."""
     plants = [plant_at(model, s, inertia, ST) for s in (Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)),
                                                          Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)))]
     prob = _stall_problem(plants)
@@ -998,77 +925,15 @@ def stall_round(model, inertia):
     return plants, start, prob, end
 
 
-def test_optimiser_stops_at_the_first_stall_of_stall_steps(stall_round):
-    """With ``stall_steps = 2`` the optimisation phase (after its feasibility step) stops at the first accepted step
-    where J has decreased by less than ``tol`` over the last 2, not before, and not at the iteration limit; the accepted
-    J values are left on the problem for the next round's test."""
+def test_optimiser_stops_at_the_first_stall(stall_round):
+    """The optimisation phase (after its feasibility step) stops at the first accepted step where J has decreased by
+    less than ``tol`` over the last :data:`_STALL_STEPS` (5), not before, and not at the iteration limit."""
     _, _, prob, end = stall_round
     js = [h["J"] for h in prob.history if h["phase"] == "optimise"]
-    stalled = _stall(js, 2, 1e-2)
-    assert stalled[-1] and not any(stalled[:-1]) and len(js) >= 4
+    stalled = _stall(js, synthesis._STALL_STEPS, 1e-2)
+    assert synthesis._STALL_STEPS == 5 and stalled[-1] and not any(stalled[:-1]) and len(js) >= 7
     assert [h["phase"] for h in prob.history][0] == "feasibility"
-    assert prob.accepted == js and end.value("rpe") == js[-1]
-
-
-def test_carried_history_stops_a_round_that_starts_stalled(model, inertia, stall_round):
-    """A second round whose added scenario leaves J unchanged (the plant of a set scenario added again): with
-    ``carry_history`` its stopping test goes on from the last round's J values and stops at the first step where it
-    holds over both (measured: 1 step); without, it starts afresh and needs at least ``stall_steps + 1`` steps
-    (measured: 3). A scenario that raises J by more than ``tol`` (0.0135 to 0.021, measured) starts the test afresh
-    either way: the same steps with and without."""
-    plants, _, first, end = stall_round
-    history = list(first.accepted)
-    other = plant_at(model, Scenario(0.5, 0.5, 0.5, np.deg2rad(80.0)), inertia, ST)
-    runs = {}
-    for carry in (True, False):
-        for name, added in (("again", plants[0]), ("raised", other)):
-            prob = _stall_problem(plants + [added], carry, history)
-            state = prob.extend(end)
-            assert (state.value("rpe") == end.value("rpe")) if name == "again" else (state.value("rpe") > 1.5 * end.value("rpe"))
-            runs[carry, name] = _optimised(prob, state)
-    carried = _stall(history + runs[True, "again"], 2, 1e-2)[len(history):]
-    assert carried[-1] and not any(carried[:-1]) and len(runs[True, "again"]) < 3
-    fresh = _stall(runs[False, "again"], 2, 1e-2)
-    assert fresh[-1] and not any(fresh[:-1]) and len(runs[False, "again"]) >= 3
-    assert runs[True, "raised"] == runs[False, "raised"]
-    assert _stall(runs[True, "raised"], 2, 1e-2)[-1] and not any(_stall(runs[True, "raised"], 2, 1e-2)[:-1])
-
-
-@pytest.mark.parametrize("scale, carried", [(1 - 0.5e-2, "stalled"), (1 - 2e-2, "no"), (1 + 5e-2, "below")])
-def test_history_is_carried_only_within_tol(stall_round, scale, carried):
-    """The last round's J values are carried only if the state's J is at most ``(1 + tol)`` times their last: here the
-    same state, with the carried values scaled so that its J is 0.5 % above them (carried: the first step stops the
-    round, as the test holds over the carried values), 2 % above (not carried: the same steps as without a history),
-    or 5 % below them (as after a stabilisation that lowered J: carried, and counted as progress, so the round goes on
-    until the test holds over its own steps, at least ``stall_steps + 1`` of them)."""
-    plants, _, first, end = stall_round
-    history = [j * scale for j in first.accepted]
-    prob = _stall_problem(plants, True, history)
-    js = _optimised(prob, end)
-    assert prob.history[0]["phase"] == "optimise"
-    held = _stall(history + js, 2, 1e-2)[len(history):]
-    if carried == "stalled":
-        assert len(js) == 1 and held[-1]
-    elif carried == "below":
-        assert held[-1] and not any(held[:-1]) and len(js) >= 3
-    else:
-        assert js == _optimised(_stall_problem(plants), end) and len(js) >= 3
-
-
-def test_synthesize_passes_its_stopping_options_to_the_problem(model, inertia, monkeypatch):
-    """``stall_steps`` and ``carry_history`` reach the optimiser of every round (the default 5 and False otherwise)."""
-    seen: list[tuple[int, bool]] = []
-    optimise = synthesis._optimise
-
-    def recording(prob, state):
-        seen.append((prob.stall_steps, prob.carry_history))
-        return optimise(prob, state)
-
-    monkeypatch.setattr(synthesis, "_optimise", recording)
-    kw = dict(gain0=_grid_gain(0.021), scenarios=[Scenario()], max_iter=2, max_rounds=1, search_thetas_deg=[0.0], workers=1)
-    synthesis.synthesize(model, inertia, ST, **kw)
-    synthesis.synthesize(model, inertia, ST, stall_steps=3, carry_history=True, **kw)
-    assert seen == [(5, False), (3, True)]
+    assert end.value("rpe") == js[-1]
 
 
 @pytest.mark.parametrize("thetas", [np.deg2rad([0.0, 45.0, 90.0, 135.0, 180.0]), [0.0, 1.0, 2.0, 3.0]])
@@ -1078,13 +943,6 @@ def test_panel_angle_grids_in_radians_are_refused(thetas):
     with pytest.raises(ValueError, match="radians"):  # before any plant is built (the model is not even looked at)
         synthesis.worst_case(None, np.zeros((4, 8)), np.eye(3), LoopSettings(), thetas_deg=thetas)
     assert len(synthesis.default_scenarios([0.0, 90.0])) == 9 and len(synthesis.default_scenarios([0.0])) == 5
-
-
-def test_synthesize_checks_search_thetas_before_optimising():
-    # up front: with no model, anything computed first would fail otherwise (was raised by the first worst-case
-    # search, after 14-30 s of optimisation)
-    with pytest.raises(ValueError, match="search_thetas_deg"):
-        synthesis.synthesize(None, np.eye(3), LoopSettings(), search_thetas_deg=[0.0, 200.0])
 
 
 def test_plant_at_refuses_unknown_kept_names(monkeypatch):

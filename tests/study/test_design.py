@@ -149,7 +149,7 @@ def test_tolerant_designs_serve_the_shifted_trusses_and_record_both(monkeypatch)
     monkeypatch.setattr(design, "models_at", lambda h, p: design.DesignModels(h, None, None, None, np.eye(3), 0.0, 0.0))
     monkeypatch.setattr(design, "truss_variants", lambda m, shifts, p: calls.append(("variants", list(shifts))) or ["v1", "v2"])
 
-    def fake(m, settings, variants=(), restarts=0, workers=None):
+    def fake(m, settings, options, variants=(), workers=None):
         calls.append(("design", list(variants)))
         worst = WorstCase({"rpe": 0.5, "effort": 0.9}, {"rpe": design.Scenario(theta=np.pi / 2), "effort": design.Scenario()},
                           {"rpe": 97.5, "effort": 418.0}, 10) if variants else None

@@ -2,7 +2,7 @@
 
 ``closedloop`` (the pointing study's generalized plant), ``hinf`` (exact H-infinity norms), ``mu`` and ``mu_interval``
 (worst-case gain bounds, pointwise and certified over frequency intervals), ``synthesis`` (robust structured
-synthesis), ``modalloop`` and ``modalpool`` (the synthesis's fast path, on worker processes).
+synthesis) and ``modalloop`` (the synthesis's fast path).
 
 It imports the model (:mod:`trusscodesign.model`) and the plumbing only.
 """

@@ -279,18 +279,6 @@ class ModalLoop:
     fallbacks: int = 0
     sweeps: int = 0
 
-    @property
-    def start(self) -> NDArray | None:
-        """The poles the next :meth:`poles` call starts from (the last call's), or None (a pattern around the open-loop
-        poles). A copy of the form in another process resumes from it (:mod:`trusscodesign.control.modalpool`)."""
-        return self._last
-
-    @start.setter
-    def start(self, poles: NDArray | None) -> None:
-        if poles is not None and np.shape(poles) != self.mu.shape:
-            raise ValueError(f"start must hold one pole per open-loop pole ({self.mu.size}), got shape {np.shape(poles)}")
-        self._last = None if poles is None else np.array(poles, dtype=complex)
-
     @classmethod
     def of(cls, plant: GeneralizedPlant) -> "ModalLoop":
         """Open-loop eigen-decomposition of ``plant`` (without open Delta channels, no feedthrough from v to y)."""

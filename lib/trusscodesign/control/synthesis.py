@@ -28,15 +28,13 @@ A synthesis that does not reach a stable, feasible, converged point is returned 
 
 from __future__ import annotations
 
-import inspect
 import logging
 import os
 import time
-import warnings
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -50,11 +48,10 @@ from .closedloop import GeneralizedPlant, LoopSettings, generalized_plant
 from .hinf import hinf_norm
 from ..model.lft import LFT
 from .modalloop import ModalLoop, sigma_max
-from .modalpool import ModalPool, shared_pool
 from ..infra.versions import ALGORITHM
 
 __all__ = ["ALGORITHM", "NOT_STABILISED", "Scenario", "LoopPeaks", "loop_peaks", "peak_gradient", "SynthesisResult", "synthesize", "WorstCase", "worst_case",
-           "search_candidates", "plant_at", "default_scenarios", "exact_norms", "sigma_curve", "check_options"]
+           "search_candidates", "plant_at", "default_scenarios", "exact_norms", "sigma_curve", "SynthesisOptions"]
 
 # progress: a line per round (INFO) and per accepted step (DEBUG); enable with logging.getLogger("trusscodesign").setLevel(...)
 logger = logging.getLogger(__name__)
@@ -157,27 +154,6 @@ def _workers(n: int | None):
         yield pool.map
 
 
-@contextmanager
-def _pooled(processes: bool, workers: int | None):
-    """The shared :class:`trusscodesign.control.modalpool.ModalPool` of ``workers - 1`` processes (this one takes a share of each
-    evaluation) if ``processes`` and ``workers >= 2`` (its plants forgotten on exit), else None; None with a warning
-    where processes cannot be started."""
-    if not processes or _n_workers(workers) < 2:
-        yield None
-        return
-    try:
-        pool = shared_pool(_n_workers(workers) - 1)  # and this process
-    except (RuntimeError, OSError) as exc:
-        warnings.warn(f"processes=True: the worker processes could not be started ({exc}); using threads", RuntimeWarning,
-                      stacklevel=3)
-        yield None
-        return
-    try:
-        yield pool
-    finally:
-        pool.forget()
-
-
 def plant_at(model: LFT, scenario: Scenario, inertia_p1: ArrayLike, settings: LoopSettings, keep: Sequence[str] = ()) -> GeneralizedPlant:
     """Generalized plant at a scenario; the parameters in ``keep`` stay as open Delta channels.
 
@@ -254,49 +230,6 @@ def _zoom_max(fun: Callable[[NDArray], NDArray], lo: NDArray, hi: NDArray, n: in
     return best_v, best_x
 
 
-# the safeguard of _parabolic_max: a vertex closer than this fraction of the shorter side to the bracket's middle or ends
-# is replaced by a golden-section step into the longer side
-_GOLDEN_GUARD = 1e-3
-
-
-def _check_peak_refine(peak_refine: object) -> None:
-    if not (isinstance(peak_refine, str) and peak_refine in ("zoom", "parabolic")):
-        raise ValueError(f"peak_refine must be 'zoom' or 'parabolic', got {peak_refine!r}")
-
-
-def _parabolic_max(fun: Callable[[NDArray], NDArray], x: NDArray, f: NDArray, steps: int = 8) -> tuple[NDArray, NDArray]:
-    """Maximise ``fun(log w)`` on each bracket from a triple ``x[i] = (a, b, c)``, ``a < b < c``, with values ``f[i]``,
-    ``f[i, 1] >= f[i, 0], f[i, 2]`` (a grid point and its neighbours), by safeguarded parabolic interpolation: each step
-    evaluates every bracket once (one vectorised call) at the vertex of the parabola through its triple (a
-    golden-section point where the vertex is degenerate or within :data:`_GOLDEN_GUARD` of the middle or the ends), and
-    keeps the triple around the best value (Brent's bracket update without his memory of older steps).
-
-    Near a peak ``sigma_max`` is smooth in log w and the vertex converges superlinearly: ``steps = 8`` calls of one
-    point per bracket, against the ``5 x 17`` of :func:`_zoom_max`, left the peaks of the spacecraft's loops within
-    7e-11 of its values (above them by up to 1.2e-10: closer to the peak), ``tests/control/test_synthesis.py``.
-    Returns ``(values, log w)`` of each bracket's best point (its middle ``f[i, 1]`` at worst).
-    """
-    a, b, c = (np.array(x[:, j], dtype=float) for j in range(3))
-    fa, fb, fc = (np.array(f[:, j], dtype=float) for j in range(3))
-    for _ in range(steps):
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # a degenerate triple: golden section below
-            num = (b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)
-            den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
-            u = b - 0.5 * num / den
-        guard = _GOLDEN_GUARD * np.minimum(b - a, c - b)
-        golden = np.where(c - b > b - a, b + 0.381966 * (c - b), b - 0.381966 * (b - a))
-        u = np.where(~np.isfinite(u) | (u <= a + guard) | (u >= c - guard) | (np.abs(u - b) < guard), golden, u)
-        fu = np.asarray(fun(u[:, None]), dtype=float)[:, 0]
-        up, right = fu > fb, u > b
-        # the new triple: around u if it is the best value, else the old middle with u as the end on its side
-        a, c, fa, fc = (np.where(up, np.where(right, b, a), np.where(right, a, u)),
-                        np.where(up, np.where(right, c, b), np.where(right, u, c)),
-                        np.where(up, np.where(right, fb, fa), np.where(right, fa, fu)),
-                        np.where(up, np.where(right, fc, fb), np.where(right, fu, fc)))
-        b, fb = np.where(up, u, b), np.where(up, fu, fb)
-    return fb, b
-
-
 def _per_group(groups: Sequence[str], group_of: NDArray, values: Callable[[str, NDArray], NDArray]) -> NDArray:
     """Values at points each of one group (``groups[group_of[i]]``): ``values(group, mask)`` gives those of a group's
     points (``mask`` selects them)."""
@@ -318,8 +251,7 @@ def _sv_max(cv: NDArray, lam: NDArray, vb: NDArray, d: NDArray, w: NDArray) -> N
 
 def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[float, float] = (1e-2, 3e3), n_log: int = 120,
                n_peaks: int = 4, min_decay: float = 1e-7, groups: Sequence[str] = GROUPS, min_damping: float = 0.0,
-               lazy_cap: bool = False, modal: ModalLoop | None = None, passive_near: complex | None = None,
-               peak_refine: str = "zoom") -> LoopPeaks:
+               lazy_cap: bool = False, modal: ModalLoop | None = None, passive_near: complex | None = None) -> LoopPeaks:
     """Peaks of ``sigma_max(T_{p~ -> group}(jw))`` of the closed loop, on a peak-aware grid, refined.
 
     Parameters
@@ -361,11 +293,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         closed loop nears instability (a review measured up to 1e-5 relative at a smallest damping of 1e-8 and 1e-4
         below it, against 4e-7 and 4e-6 for the dense path): the optimiser uses it far from there (damping floor
         about 1.6e-4), and the reported J_c and Z_c come from the dense path.
-    peak_refine : {"zoom", "parabolic"}
-        How each peak is refined from its grid point and neighbours: nested grids (:func:`_zoom_max`, 85 points per
-        peak; default, every stored result) or safeguarded parabolic interpolation (:func:`_parabolic_max`, 8 points).
     """
-    _check_peak_refine(peak_refine)
     if plant.n_delta:
         raise ValueError("loop_peaks needs a plant without open Delta channels (substitute the uncertain parameters)")
     k = plant._check_gain(gain)
@@ -439,12 +367,7 @@ def loop_peaks(plant: GeneralizedPlant, gain: ArrayLike, omega_range: tuple[floa
         def fun(x: NDArray) -> NDArray:  # log w (brackets x points) -> sigma_max of each bracket's group
             return sigmas(np.exp(x).ravel(), np.repeat(group_of, x.shape[1])).reshape(x.shape)
 
-        if peak_refine == "zoom":
-            values, logw = _zoom_max(fun, np.log(grid[at - 1]), np.log(grid[at + 1]))
-        else:
-            near = at[:, None] + np.arange(-1, 2)
-            values, logw = _parabolic_max(fun, np.log(grid[near]),
-                                          np.array([found[groups[j]][0][i] for j, i in zip(group_of, near)]))
+        values, logw = _zoom_max(fun, np.log(grid[at - 1]), np.log(grid[at + 1]))
         refined = {b: (float(v), float(x)) for b, v, x in zip(brackets, values, logw)}
     for j, group in enumerate(groups):
         s, cand = found[group]
@@ -586,8 +509,7 @@ def search_candidates(thetas_deg: Sequence[float] | None = None) -> list[Scenari
 
 def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: LoopSettings, thetas_deg: Sequence[float] | None = None,
                refine: int = 2, max_evals: int = 30, min_decay: float = 1e-7, workers: int | None = None,
-               min_damping: float = 0.0, modal_forms: dict[bytes, ModalLoop] | None = None,
-               peak_refine: str = "zoom") -> WorstCase:
+               min_damping: float = 0.0) -> WorstCase:
     """Search the uncertainty box for the worst RPE and effort peaks with a given gain.
 
     Candidates: the 8 corners of (M_SC, Iyy_SC, omega1_SP) and the nominal, at each panel angle of
@@ -595,18 +517,7 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     group are improved by a bounded Nelder-Mead search over (d_mass, d_iyy, d_omega1, theta), ``max_evals``
     evaluations each.
 
-    ``modal_forms``: a dict (empty at first, then kept by the caller between searches of the same model, inertia and
-    settings, one search at a time) in which the grid's plants keep their open-loop modal forms
-    (:class:`trusscodesign.control.modalloop.ModalLoop`), so that the grid is evaluated by the fast path, ``O(n^2)`` per candidate once
-    its form is built, instead of a dense eigen-decomposition each time. Evaluated again by the dense path: every
-    candidate the fast path finds unstable or within :data:`_CLOSE_CALL` (relative to ``|lambda|``) of the stability
-    requirement, where its error is largest, and, until they are all dense values, the ``refine`` best of each group
-    (the refinements' starts; the Nelder-Mead refinements are dense, their plants being new at every evaluation). So
-    the values, scenarios and stability verdicts returned are the dense path's, up to the fast path's accuracy (about
-    1e-6 of a peak) in the ranking of near ties. Default None: every evaluation dense.
-
     Unstable scenarios are listed in the grid's order, then in each refinement's; a refinement adds those it meets.
-    ``peak_refine``: that of :func:`loop_peaks` for every evaluation.
     """
     _check_option("refine", refine, 0, integer=True)
     _check_option("max_evals", max_evals, 1, integer=True)
@@ -619,38 +530,15 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
     # the least damped passive pole of the nominal plant: near it, each scenario's cap is bounded cheaply (loop_peaks)
     near = plant_at(model, Scenario(), inertia_p1, settings).passive_pole() if min_damping > 0 else None
 
-    def peaks(plant: GeneralizedPlant, groups: Sequence[str] = GROUPS, modal: ModalLoop | None = None) -> LoopPeaks:
-        return loop_peaks(plant, gain, min_decay=min_decay, n_peaks=1, min_damping=min_damping, lazy_cap=True, groups=groups,
-                          passive_near=near, modal=modal, peak_refine=peak_refine)
-
     def evaluate(sc: Scenario, groups: Sequence[str] = GROUPS, met: list[Scenario] | None = None) -> LoopPeaks:
-        lp = peaks(plant_at(model, sc, inertia_p1, settings), groups)
+        lp = loop_peaks(plant_at(model, sc, inertia_p1, settings), gain, min_decay=min_decay, n_peaks=1,
+                        min_damping=min_damping, lazy_cap=True, groups=groups, passive_near=near)
         if met is not None and not lp.stable:
             met.append(sc)
         return lp
 
-    forms: dict[bytes, ModalLoop] = {} if modal_forms is None else modal_forms
-
-    def screen(sc: Scenario) -> LoopPeaks:  # a grid candidate by the fast path, its modal form built at first use
-        key = sc.vector().tobytes()
-        if key not in forms:
-            forms[key] = ModalLoop.of(plant_at(model, sc, inertia_p1, settings))
-        return peaks(forms[key].plant, modal=forms[key])
-
     with _workers(workers) as pmap:
-        if modal_forms is None:
-            table = list(zip(cands, pmap(evaluate, cands)))
-        else:  # the fast path on the grid, then the dense path where it matters (see the docstring)
-            table = list(zip(cands, pmap(screen, cands)))
-            dense: set[int] = set()
-            redo = {i for i, (_, lp) in enumerate(table) if not lp.stable or _close_call(lp, min_decay)}
-            while redo:  # until the refinements' starts are dense values
-                todo = sorted(redo)
-                for i, lp in zip(todo, pmap(evaluate, [table[i][0] for i in todo])):
-                    table[i] = (table[i][0], lp)
-                dense |= redo
-                evals += len(todo)
-                redo = {i for g in GROUPS for i in _ranked(table, g)[:max(refine, 1)]} - dense
+        table = list(zip(cands, pmap(evaluate, cands)))
         evals += len(cands)
         unstable += [sc for sc, lp in table if not lp.stable]
         value, worst, omega = {}, {}, {}
@@ -684,20 +572,6 @@ def worst_case(model: LFT, gain: ArrayLike, inertia_p1: ArrayLike, settings: Loo
                     best = (lp.norm(group), sc, lp.omega(group))
             value[group], worst[group], omega[group] = best
     return WorstCase(value, worst, omega, evals, unstable)
-
-
-# fast_search: a grid candidate with a closed-loop pole within this fraction of |lambda| of the stability requirement
-# (a damping within 1e-6 of it) is evaluated again densely: 100 times the fast path's tested pole accuracy (1e-8 of
-# LAPACK's, tests/control/test_modalloop.py). Not wider: the optimiser leaves modes near the set's damping floor, 2e-4,
-# within 1e-4 of the search's 1.5e-4. Measured on the grid's 90 candidates with the stored grid's gains at 1.6, 2.1 and
-# 2.8 cm (at their own h): a band of 1e-4 holds all 90 each time, 1e-5 holds 49, 7 and 0, 1e-6 holds 2, 0 and 0
-_CLOSE_CALL = 1e-6
-
-
-def _close_call(lp: LoopPeaks, min_decay: float) -> bool:
-    """Whether a pole of a stable ``lp`` lies within :data:`_CLOSE_CALL` of ``|lambda|`` of the requirement."""
-    eig = lp.decomposition()
-    return lp.stable and bool(np.any(eig.value + min_decay > -_CLOSE_CALL * np.abs(eig.lam)))
 
 
 def _ranked(table: Sequence[tuple[Scenario, LoopPeaks]], group: str) -> list[int]:
@@ -797,53 +671,11 @@ class _State:
         return max([p.abscissa for p in self.peaks] + [x.margin for x in self.extra if x is not None])
 
 
-def _remote_peaks(form: ModalLoop, start: NDArray | None, gain: NDArray, options: dict) -> tuple:
-    """:func:`loop_peaks` of ``form``'s plant by the fast path, from the poles ``start``, in a worker of
-    :class:`trusscodesign.control.modalpool.ModalPool`; what :func:`_pool_peaks` needs to rebuild the result and the form's state."""
-    form.start = start
-    sweeps, fallbacks = form.sweeps, form.fallbacks
-    lp = loop_peaks(form.plant, gain, modal=form, **options)
-    eig = lp.decomposition()
-    counts = (form.sweeps - sweeps, form.fallbacks - fallbacks)
-    form.sweeps, form.fallbacks = sweeps, fallbacks  # counted by the caller (the form may be its own: ``local``)
-    return (lp.peaks, lp.abscissa, lp.stable, lp.checked, eig.lam, eig.value, form.start, *counts)
-
-
-def _pool_peaks(pool: ModalPool, plants: Sequence[GeneralizedPlant], forms: Sequence[ModalLoop], gain: NDArray,
-                **options) -> list[LoopPeaks]:
-    """``[loop_peaks(p, gain, modal=f, **options) for p, f in zip(plants, forms)]`` on ``pool``'s workers: the same
-    values (the workers build the same forms and start from each form's poles, which come back with the result).
-    This process evaluates a share of the plants itself (``local`` of :meth:`trusscodesign.control.modalpool.ModalPool.map`)."""
-    k = np.array(gain, dtype=float)
-    out = []
-    for form, (peaks, abscissa, stable, checked, lam, value, start, sweeps, fallbacks) in zip(
-            forms, pool.map(_remote_peaks, [(p, f.start) for p, f in zip(plants, forms)], k, options,
-                            local=lambda j: _remote_peaks(forms[j], forms[j].start, k, options))):
-        form.start, form.sweeps, form.fallbacks = start, form.sweeps + sweeps, form.fallbacks + fallbacks
-        out.append(LoopPeaks(peaks, abscissa, stable, checked, _Eigen.modal(form, k, lam, value)))
-    return out
-
-
-def _remote_pole_data(form: ModalLoop, lam: NDArray, gain: NDArray) -> tuple[NDArray, NDArray]:
-    """:meth:`trusscodesign.control.modalloop.ModalLoop.pole_data` in a worker of :class:`trusscodesign.control.modalpool.ModalPool`."""
-    return form.pole_data(gain, lam)
-
-
-def _prefetch_vectors(pool: ModalPool, plants: Sequence[GeneralizedPlant], eigens: Sequence[_Eigen], gain: NDArray) -> None:
-    """The pole vectors of the fast-path decompositions ``eigens`` (of ``plants`` at ``gain``) not yet computed, on
-    ``pool``'s workers (the same values: :meth:`trusscodesign.control.modalloop.ModalLoop.pole_data` of the same form and poles)."""
-    todo = [(p, e, e.form) for p, e in zip(plants, eigens) if e.known is None and e.form is not None]
-    for (_, e, _), vectors in zip(todo, pool.map(_remote_pole_data, [(p, e.lam) for p, e, _ in todo], gain,
-                                                 local=lambda j: _remote_pole_data(todo[j][2], todo[j][1].lam, gain))):
-        e.known = vectors
-
-
 def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, pmap: Callable = map,
               checks: Sequence[GeneralizedPlant] = (), min_damping: float = 0.0, omega_check: float = 0.0,
               min_damping_all: float = 0.0, reject: Callable[[LoopPeaks], bool] | None = None,
               order: Sequence[int] | NDArray | None = None, chunk: int = 1,
-              modal: Callable[[GeneralizedPlant], ModalLoop | None] = lambda p: None,
-              peak_refine: str = "zoom", pool: ModalPool | None = None) -> tuple[_State | None, int]:
+              modal: Callable[[GeneralizedPlant], ModalLoop | None] = lambda p: None) -> tuple[_State | None, int]:
     """Peaks of the scenario plants, then, if they are all stable, the eigen-decomposition of the stability-only
     plants (skipped for a step that is rejected anyway). Returns the state and the number of plants evaluated.
     ``modal`` gives a plant's open-loop modal form (the fast path), or None (the dense path).
@@ -851,17 +683,10 @@ def _evaluate(plants: list[GeneralizedPlant], gain: NDArray, min_decay: float, p
     With ``reject``, the plants are evaluated in ``order``, ``chunk`` at a time, and the evaluation stops (returns
     None) as soon as one plant's peaks show that the step is rejected whatever the others give: a trial step then
     costs one or two plants instead of all. The decision is the same as after a full evaluation.
-
-    With ``pool`` (and ``modal`` giving every plant's form), the plants' peaks are computed on its worker processes.
     """
-    options: dict[str, Any] = dict(min_decay=min_decay, min_damping=min_damping_all, peak_refine=peak_refine)
 
     def many(ps: list[GeneralizedPlant]) -> list[LoopPeaks]:
-        if pool is not None:
-            forms = list(pmap(modal, ps))  # this side's forms (built at first use), for the linearisations
-            if all(f is not None for f in forms):
-                return _pool_peaks(pool, ps, forms, gain, **options)
-        return list(pmap(lambda p: loop_peaks(p, gain, modal=modal(p), **options), ps))
+        return list(pmap(lambda p: loop_peaks(p, gain, min_decay=min_decay, min_damping=min_damping_all, modal=modal(p)), ps))
 
     if reject is None:
         peaks = many(plants)
@@ -988,51 +813,25 @@ def _least_change(constraints: Sequence[tuple[float, NDArray, float]], radius: N
     return None if x is None else x * radius
 
 
-def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
-               scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
-               variants: Sequence[tuple[LFT, ArrayLike]] = (), min_damping: float = 5e-4, omega_check: float = 500.0, min_damping_all: float = 2e-4,
-               search_damping: float = 0.75, max_iter: int = 60, max_rounds: int = 6, search_thetas_deg=None,
-               min_decay: float = 1e-7, band: float = 0.7, margin: float = 0.02,
-               tol: float = 2e-3, cover_tol: float = 1e-2, radius0: float = 1.0, workers: int | None = None,
-               fast: bool = False, trust_region: str = "box", restoration: str = "minmax",
-               max_unstable: int = 1, fast_search: bool = False, search_max_evals: int = 30,
-               peak_refine: str = "zoom", processes: bool = False, stall_steps: int = 5,
-               carry_history: bool = False) -> SynthesisResult:
-    """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
+@dataclass(frozen=True)
+class SynthesisOptions:
+    """The options of a robust synthesis, checked when created (a ``TypeError`` or ``ValueError`` naming the option).
 
-    Parameters
+    One object travels from a notebook through the co-design, the design helpers and the sensitivity study to
+    :func:`synthesize`; :meth:`key` is what stored results record of it.
+
+    Attributes
     ----------
-    model : trusscodesign.model.lft.LFT
-        Uncertain open loop at one h, e.g. :func:`trusscodesign.model.spacecraft.reduced_uncertain_model` (``G_r``).
-    inertia_p1 : array_like (3, 3)
-        Rigid inertia at P1 for the ACS [kg m^2] (:func:`trusscodesign.model.spacecraft.inertia_at_p1`).
-    settings : LoopSettings, optional
-    gain0 : array_like (4, 8), optional
-        Starting gain; default all entries -1 (as the paper).
-    scenarios : sequence of Scenario, optional
-        Initial scenario set (default :func:`default_scenarios`).
-    stability_models : sequence of GeneralizedPlant
-        Plants whose closed-loop stability is a hard constraint but whose norms are not optimised: e.g. the
-        nominal ``G_r_low`` plant (all flexible modes), so that the gain does not destabilise the modes that
-        ``G_r`` residualises (spillover). Their least damped poles enter the local model as linear constraints.
-    variants : sequence of (LFT, array_like (3, 3)) pairs
-        Further uncertain open loops, each with the rigid inertia at P1 its ACS is designed on [kg m^2], that the gain
-        must serve as well as ``model``: e.g. the spacecraft with its truss frequencies shifted by a model error
-        (:func:`trusscodesign.study.design.robust_design`, ``variants``). Every scenario of the set is evaluated on ``model`` and on every
-        variant, and the worst-case search covers each of them. Default none: the paper's synthesis, unchanged.
     min_damping, omega_check : float
         Damping ratio that every pole of the stability models above ``omega_check`` [rad/s] (the modes ``G_r``
-        residualises) must keep (default 5e-4, half the truss damping; they have at least 7e-4 with the PMAs
-        passive). A margin: left on the stability boundary, these modes would be pushed across by the uncertain
+        residualises) must keep (None: 5e-4 in :func:`synthesize`, half the truss damping in
+        :func:`trusscodesign.study.design.robust_design`; they have at least 7e-4 with the PMAs
+        passive; None: 500 rad/s, and the models' cut frequency in the design). A margin: left on the stability boundary, these modes would be pushed across by the uncertain
         parameters. Below ``omega_check`` the stability models need only be stable.
     min_damping_all : float
         Damping ratio every closed-loop pole of every scenario of the set must keep (default 2e-4; capped at half
         the scenario's passive least damping, 3.2e-4 on this spacecraft): without it the optimiser parks modes at a
         damping of 1e-4 or less, where the mu analysis can no longer certify robustness.
-    search_damping : float
-        Fraction of ``min_damping_all`` that the worst-case search over the whole box requires (default 0.75): a
-        margin, as ``margin`` is for the effort. Holding the box to the set's own floor makes every search find a
-        neighbour of a set scenario a few per cent below it, round after round.
     max_iter : int
         Trust-region iterations per round.
     max_rounds : int
@@ -1041,21 +840,9 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         does, the design is returned as valid (stable, feasible, covered by the search) with that message.
     search_thetas_deg : sequence of float, optional
         Panel angles of the worst-case search grid [deg] (default 10, every 20 deg from 0 to 180).
-    min_decay : float
-        Stability margin on the closed-loop poles [1/s].
-    band : float
-        Peaks within this fraction of the maximum enter the local model.
-    margin : float
-        The linearised effort peaks are kept below ``gamma_u (1 - margin)``.
     tol : float
-        Relative decrease of J over ``stall_steps`` accepted steps below which the optimiser of a round stops (and, with
-        ``carry_history``, the relative rise of J up to which a round goes on with the last one's stopping test).
-    cover_tol : float
-        Relative excess over the set's J (or Z) below which a searched worst case counts as covered by the set.
-    radius0 : float
-        Initial trust radius on each gain entry.
-    workers : int, optional
-        Threads evaluating the scenarios (default: up to 2); BLAS is limited to one thread each.
+        Relative decrease of J over the last 5 accepted steps of a round's optimisation phase below which it stops
+        (default 2e-3; the co-design's 1e-2, :data:`trusscodesign.study.codesign.CODESIGN_OPTIONS`).
     fast : bool
         Evaluate the scenario plants and stability-only plants during the optimisation through their open-loop
         modal form (:mod:`trusscodesign.control.modalloop`: ``O(n^2)`` per gain instead of a dense eigen-decomposition); the final
@@ -1083,54 +870,121 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
         (``docs/experiments.md``): one min-max step that stabilised a scenario the search added (abscissa 2.7e-3 to
         -5.0e-3 1/s, 5e4 times the required margin) took J from 0.018 to 0.071 and Z to 1.09, and the synthesis ended
         not converged with J_c 0.12 after 6 rounds.
-    max_unstable : int
-        Unstable scenarios (no two within 0.1 normalised and 5 deg of each other) that a round adds from its search (default 1,
-        every stored result). A warm start can meet several at once: on 1.6 -> 1.639 cm the first search found 6, and
-        adding one per round took three rounds to clear them.
-    fast_search : bool
-        Evaluate the worst-case search's grid by the fast path, each grid plant's modal form kept from one search to
-        the next (``modal_forms`` of :func:`worst_case`); the refinements' starts and the candidates it finds unstable or
-        near the stability requirement are evaluated again densely, so the search's results stay the dense path's (up to
-        the fast path's accuracy in near ties). Default False (every stored result).
-    search_max_evals : int
-        Nelder-Mead evaluations per refinement of the worst-case search (``max_evals`` of :func:`worst_case`; default
-        30, every stored result). Measured on 10 stored designs (``docs/experiments.md``): 10 evaluations
-        leave the worst cases within 0.11 % (RPE) and 0.91 % (effort) of 30's.
-        These three options and their effect on warm starts: ``benchmarks/warm_search.py``.
-    peak_refine : {"zoom", "parabolic"}
-        How every evaluation of the synthesis (optimiser, searches, final) refines its peaks: ``peak_refine`` of
-        :func:`loop_peaks` (default "zoom", every stored result; "parabolic" takes 8 points per peak instead of 85).
-    processes : bool
-        With ``fast``: the optimiser's evaluations of the scenario plants on ``workers`` worker processes that keep
-        their modal forms (:mod:`trusscodesign.control.modalpool`, started at the first such synthesis and kept), instead of threads,
-        which the fast path's small numpy calls hold to 1.25-1.5 times one's speed. The same values as with threads.
-        Where processes cannot be started (a Dask worker is a daemonic process), threads, with a warning. Default False.
-    stall_steps : int
-        The optimiser of a round stops when J has decreased by less than ``tol`` (relative) over its last
-        ``stall_steps`` accepted steps of its optimisation phase (a feasibility step starts the count afresh; default 5,
-        every stored result). Fewer stop the slow final creep sooner, so a round needs fewer steps; its J_c can end
-        higher or lower (another path), measured on 14 warm starts: -0.1 to +12 %, median +0.7 %, with 3.
-    carry_history : bool
-        A round after the first whose set's J (after its stabilisation, if a scenario the search added was unstable) is
-        at most ``(1 + tol)`` times the last accepted J of the last round's optimisation phase (the scenarios the search
-        added barely raise it; also a round on an unchanged set after the iteration limit), and not above the effort
-        bound, starts its stopping test from the last round's accepted J values instead of afresh: it stops as soon as
-        J is within ``tol`` of them, instead of after at least ``stall_steps + 1`` accepted steps. Those values
-        approximate the smaller set's optimum, a lower bound of the new set's, so little is lost; a J below them (a
-        stabilisation that lowered it) counts as progress and keeps the test going. Default False (every stored
-        result).
-        These two options and their effect on warm starts: ``benchmarks/warm_search.py``.
+    spillover : bool
+        Used by :func:`trusscodesign.study.design.robust_design`: the nominal loops on the models' ``G_r_low`` as
+        stability-only plants (default True).
+    restarts : int
+        Used by :func:`trusscodesign.study.design.robust_design`: how many times a failed synthesis is started again
+        from its final gain (default 0).
+    """
+
+    min_damping: float | None = None
+    omega_check: float | None = None
+    min_damping_all: float = 2e-4
+    max_iter: int = 60
+    max_rounds: int = 6
+    search_thetas_deg: tuple[float, ...] | None = None
+    tol: float = 2e-3
+    fast: bool = False
+    trust_region: str = "box"
+    restoration: str = "minmax"
+    spillover: bool = True
+    restarts: int = 0
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.trust_region, str) and self.trust_region in ("box", "ball")):
+            raise ValueError(f"trust_region must be 'box' or 'ball', got {self.trust_region!r}")
+        if not (isinstance(self.restoration, str) and self.restoration in ("minmax", "least_change")):
+            raise ValueError(f"restoration must be 'minmax' or 'least_change', got {self.restoration!r}")
+        for name in ("min_damping", "min_damping_all"):
+            if getattr(self, name) is not None:
+                _check_option(name, getattr(self, name), 0.0, 1.0, open_high=True)
+        if self.omega_check is not None:
+            _check_option("omega_check", self.omega_check, 0.0)
+        _check_option("tol", self.tol, 0.0, 1.0, open_low=True, open_high=True)
+        for name in ("max_iter", "max_rounds"):
+            _check_option(name, getattr(self, name), 1, integer=True)
+        _check_option("restarts", self.restarts, 0, integer=True)
+        for name in ("fast", "spillover"):
+            if not isinstance(getattr(self, name), (bool, np.bool_)):
+                raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
+        if self.search_thetas_deg is not None:
+            object.__setattr__(self, "search_thetas_deg", tuple(float(x) for x in _thetas_deg(self.search_thetas_deg, "search_thetas_deg")))
+
+    def replace(self, **changes: Any) -> "SynthesisOptions":
+        """A copy with ``changes``, checked."""
+        return replace(self, **changes)
+
+    def key(self) -> dict[str, Any]:
+        """The options that differ from the defaults, by name, in JSON types: what stored results record (the co-design's
+        ``{"tol": 0.01, "fast": true, "trust_region": "ball", "restoration": "least_change"}``)."""
+        out: dict[str, Any] = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if value != f.default:
+                out[f.name] = list(value) if isinstance(value, tuple) else value
+        return out
+
+    @classmethod
+    def from_key(cls, key: Mapping[str, Any] | None) -> "SynthesisOptions":
+        """The options a stored :meth:`key` describes (None: the defaults); a ``TypeError`` names an option this version
+        no longer has."""
+        key = dict(key or {})
+        unknown = sorted(set(key) - {f.name for f in fields(cls)})
+        if unknown:
+            raise TypeError(f"unknown synthesis option(s) {unknown}; SynthesisOptions has {[f.name for f in fields(cls)]}")
+        return cls(**key)
+
+
+# The optimiser's fixed parameters (options once, never set by any stored result, default or notebook)
+_MIN_DECAY = 1e-7  # stability margin on the closed-loop poles [1/s]
+_SEARCH_DAMPING = 0.75  # fraction of min_damping_all the worst-case search over the box requires (a margin, like _MARGIN)
+_BAND = 0.7  # peaks within this fraction of the maximum enter the local model
+_MARGIN = 0.02  # the linearised effort peaks are kept below gamma_u (1 - _MARGIN)
+_COVER_TOL = 1e-2  # relative excess over the set's J (or Z) below which a searched worst case counts as covered
+_RADIUS0 = 1.0  # initial trust radius on each gain entry (relative, at least 1)
+_STALL_STEPS = 5  # the stopping test's window of accepted steps (see SynthesisOptions.tol)
+_MAX_UNSTABLE = 1  # unstable scenarios a round adds from its search
+
+
+def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None = None,
+               options: SynthesisOptions | None = None, gain0: ArrayLike | None = None,
+               scenarios: Sequence[Scenario] | None = None, stability_models: Sequence[GeneralizedPlant] = (),
+               variants: Sequence[tuple[LFT, ArrayLike]] = (), workers: int | None = None) -> SynthesisResult:
+    """Robust structured H-infinity synthesis of the 4x8 PMA gain (multi-model, hard effort constraint).
+
+    Parameters
+    ----------
+    model : trusscodesign.model.lft.LFT
+        Uncertain open loop at one h, e.g. :func:`trusscodesign.model.spacecraft.reduced_uncertain_model` (``G_r``).
+    inertia_p1 : array_like (3, 3)
+        Rigid inertia at P1 for the ACS [kg m^2] (:func:`trusscodesign.model.spacecraft.inertia_at_p1`).
+    settings : LoopSettings, optional
+    options : SynthesisOptions, optional
+        What the optimiser does (default ``SynthesisOptions()``; ``spillover`` and ``restarts`` are the design's).
+    gain0 : array_like (4, 8), optional
+        Starting gain; default all entries -1 (as the paper).
+    scenarios : sequence of Scenario, optional
+        Initial scenario set (default :func:`default_scenarios`).
+    stability_models : sequence of GeneralizedPlant
+        Plants whose closed-loop stability is a hard constraint but whose norms are not optimised: e.g. the
+        nominal ``G_r_low`` plant (all flexible modes), so that the gain does not destabilise the modes that
+        ``G_r`` residualises (spillover). Their least damped poles enter the local model as linear constraints.
+    variants : sequence of (LFT, array_like (3, 3)) pairs
+        Further uncertain open loops, each with the rigid inertia at P1 its ACS is designed on [kg m^2], that the gain
+        must serve as well as ``model``: e.g. the spacecraft with its truss frequencies shifted by a model error
+        (:func:`trusscodesign.study.design.robust_design`, ``variants``). Every scenario of the set is evaluated on ``model`` and on every
+        variant, and the worst-case search covers each of them. Default none: the paper's synthesis, unchanged.
+    workers : int, optional
+        Threads evaluating the scenarios (default: up to 2); BLAS is limited to one thread each.
     """
     t0 = time.perf_counter()
-    _check_scalar_options(min_damping=min_damping, omega_check=omega_check, min_damping_all=min_damping_all,
-                          search_damping=search_damping, max_iter=max_iter, max_rounds=max_rounds,
-                          search_thetas_deg=search_thetas_deg, min_decay=min_decay, band=band, margin=margin, tol=tol,
-                          cover_tol=cover_tol, radius0=radius0, workers=workers, trust_region=trust_region,
-                          restoration=restoration, max_unstable=max_unstable, fast_search=fast_search,
-                          search_max_evals=search_max_evals, peak_refine=peak_refine, processes=processes,
-                          stall_steps=stall_steps, carry_history=carry_history)
-    if processes and not fast:
-        raise ValueError("processes=True needs fast=True (the worker processes keep the plants' modal forms)")
+    opts = SynthesisOptions() if options is None else options
+    if not isinstance(opts, SynthesisOptions):
+        raise TypeError(f"options must be a SynthesisOptions, got {type(opts).__name__}")
+    _n_workers(workers)
+    min_damping = 5e-4 if opts.min_damping is None else opts.min_damping
+    omega_check = 500.0 if opts.omega_check is None else opts.omega_check
     settings = settings or LoopSettings.from_parameters()
     gain = -np.ones((4, 8)) if gain0 is None else np.array(gain0, dtype=float)
     if gain.shape != (4, 8) or not np.all(np.isfinite(gain)):
@@ -1150,20 +1004,15 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
     loops = [(model, inertia_p1)] + [(m, inertia) for m, inertia in variants]
     worst: WorstCase | None = None
     searches = 0
-    message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
-    with _pooled(processes, workers) as pool, _workers(workers) as pmap:  # the workers forked before the threads start
+    message = f"stopped after {opts.max_rounds} rounds with the worst-case search still finding worse scenarios"
+    with _workers(workers) as pmap:
         def plants_for(scs: Sequence[Scenario]) -> list[GeneralizedPlant]:
             return list(pmap(lambda job: plant_at(job[0][0], job[1], job[0][1], settings), [(loop, sc) for loop in loops for sc in scs]))
 
-        prob = _Problem(plants_for(scen), list(stability_models), pmap,
-                        min_decay, settings.gamma_u, band, margin, tol, radius0, max_iter, min_damping, omega_check,
-                        min_damping_all, chunk=_n_workers(workers), fast=fast, trust_region=trust_region,
-                        restoration=restoration, peak_refine=peak_refine, pool=pool, stall_steps=stall_steps,
-                        carry_history=carry_history)
+        prob = _Problem(plants_for(scen), list(stability_models), pmap, settings.gamma_u, opts, min_damping, omega_check,
+                        chunk=_n_workers(workers))
         state = None
-        # fast_search: each loop's grid plants keep their modal forms from one search to the next
-        grid_forms: list[dict | None] = [{} if fast_search else None for _ in loops]
-        for round_ in range(max_rounds):
+        for round_ in range(opts.max_rounds):
             # the first round evaluates the set at the starting gain; a later one starts from the last round's state, at
             # the same gain, with only the scenarios its search added still to evaluate
             state = _stabilise(prob, prob.evaluate_all(gain) if state is None else prob.extend(state))
@@ -1173,12 +1022,11 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                 break
             state, at_limit = _optimise(prob, state)
             gain = state.gain
-            worst = _merge([worst_case(m, gain, inertia, settings, search_thetas_deg, min_decay=min_decay, workers=workers,
-                                       min_damping=search_damping * min_damping_all, max_evals=search_max_evals,
-                                       modal_forms=forms, peak_refine=peak_refine) for (m, inertia), forms in zip(loops, grid_forms)])
+            worst = _merge([worst_case(m, gain, inertia, settings, opts.search_thetas_deg, min_decay=_MIN_DECAY, workers=workers,
+                                       min_damping=_SEARCH_DAMPING * opts.min_damping_all) for m, inertia in loops])
             prob.evaluations += worst.evaluations
             searches += 1
-            added = _uncovered(state, worst, settings.gamma_u, cover_tol, margin, max_unstable)
+            added = _uncovered(state, worst, settings.gamma_u)
             logger.info(f"round {round_}: {len(prob.plants)} scenario plants, J {state.value('rpe'):.5f} Z {state.value('effort'):.4f}; "
                         f"search J {worst.value['rpe']:.5f} Z {worst.value['effort']:.4f}; adding {len(added)} "
                         f"({time.perf_counter() - t0:.1f} s)")
@@ -1186,10 +1034,10 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                 message = "converged: the worst-case search finds nothing worse than the scenario set"
                 break
             if not added:  # the set covers the box but the optimiser was still improving: another round on the same set
-                message = (f"iteration limit ({max_rounds} x {max_iter}): the worst-case search finds nothing worse than the "
-                           "scenario set, but the optimiser had not converged")
+                message = (f"iteration limit ({opts.max_rounds} x {opts.max_iter}): the worst-case search finds nothing worse "
+                           "than the scenario set, but the optimiser had not converged")
                 continue
-            message = f"stopped after {max_rounds} rounds with the worst-case search still finding worse scenarios"
+            message = f"stopped after {opts.max_rounds} rounds with the worst-case search still finding worse scenarios"
             scen += added
             prob.plants += plants_for(added)
         final = prob.evaluate_all(gain, dense=True)
@@ -1204,49 +1052,6 @@ def synthesize(model: LFT, inertia_p1: ArrayLike, settings: LoopSettings | None 
                            prob.evaluations, prob.history, prob.fallbacks(), searches)
 
 
-def _check_scalar_options(min_damping, omega_check, min_damping_all, search_damping, max_iter, max_rounds, search_thetas_deg,
-                          min_decay, band, margin, tol, cover_tol, radius0, workers, trust_region="box",
-                          restoration="minmax", max_unstable=1, fast_search=False, search_max_evals=30,
-                          peak_refine="zoom", processes=False, stall_steps=5, carry_history=False) -> None:
-    """The checks of :func:`synthesize`'s scalar options (before anything is computed)."""
-    if not (isinstance(trust_region, str) and trust_region in ("box", "ball")):
-        raise ValueError(f"trust_region must be 'box' or 'ball', got {trust_region!r}")
-    if not (isinstance(restoration, str) and restoration in ("minmax", "least_change")):
-        raise ValueError(f"restoration must be 'minmax' or 'least_change', got {restoration!r}")
-    for name, value, low, high in (("min_damping", min_damping, 0.0, 1.0), ("min_damping_all", min_damping_all, 0.0, 1.0),
-                                   ("margin", margin, 0.0, 1.0)):
-        _check_option(name, value, low, high, open_high=True)
-    for name, value in (("omega_check", omega_check), ("min_decay", min_decay), ("cover_tol", cover_tol)):
-        _check_option(name, value, 0.0)
-    _check_option("search_damping", search_damping, 0.0, 1.0)
-    _check_option("band", band, 0.0, 1.0, open_low=True)
-    _check_option("tol", tol, 0.0, 1.0, open_low=True, open_high=True)
-    _check_option("radius0", radius0, 0.0, open_low=True)
-    _check_option("max_iter", max_iter, 1, integer=True)
-    _check_option("max_rounds", max_rounds, 1, integer=True)
-    _check_option("max_unstable", max_unstable, 1, integer=True)
-    _check_option("search_max_evals", search_max_evals, 1, integer=True)
-    _check_option("stall_steps", stall_steps, 1, integer=True)
-    for name, flag in (("fast_search", fast_search), ("processes", processes), ("carry_history", carry_history)):
-        if not isinstance(flag, (bool, np.bool_)):
-            raise TypeError(f"{name} must be True or False, got {flag!r}")
-    _check_peak_refine(peak_refine)
-    if search_thetas_deg is not None:  # else checked by the first worst-case search, after a round of optimisation
-        _thetas_deg(search_thetas_deg, "search_thetas_deg")
-    _n_workers(workers)
-
-
-def check_options(options: Mapping[str, object]) -> None:
-    """Check keyword options of :func:`synthesize` without running it (e.g. before a co-design passes them to every
-    particle): a TypeError for an unknown name, and the errors :func:`synthesize` raises for a bad value."""
-    params = inspect.signature(synthesize).parameters
-    unknown = sorted(set(options) - set(params))
-    if unknown:
-        raise TypeError(f"unknown synthesis option(s) {unknown}; options of synthesize are {sorted(params)}")
-    names = inspect.signature(_check_scalar_options).parameters
-    _check_scalar_options(**{k: options.get(k, params[k].default) for k in names})
-
-
 @dataclass
 class _Problem:
     """The data of one synthesis: scenario plants, stability-only plants, options and counters."""
@@ -1254,33 +1059,19 @@ class _Problem:
     plants: list[GeneralizedPlant]
     checks: list[GeneralizedPlant]
     pmap: Callable
-    min_decay: float
     gamma: float
-    band: float
-    margin: float
-    tol: float
-    radius0: float
-    max_iter: int
-    min_damping: float = 0.0
-    omega_check: float = 0.0
-    min_damping_all: float = 0.0
+    opts: SynthesisOptions
+    min_damping: float
+    omega_check: float
     chunk: int = 1
-    fast: bool = False
-    trust_region: str = "box"
-    restoration: str = "minmax"
-    peak_refine: str = "zoom"
-    pool: ModalPool | None = None  # worker processes for the fast path's evaluations (None: the threads of pmap)
-    stall_steps: int = 5
-    carry_history: bool = False
     iterations: int = 0
     evaluations: int = 0
     history: list[dict] = field(default_factory=list)
-    accepted: list[float] = field(default_factory=list)  # the J of the last optimisation phase's accepted steps
     _modal: dict[int, ModalLoop] = field(default_factory=dict, repr=False)
 
     def modal(self, plant: GeneralizedPlant) -> ModalLoop | None:
         """The plant's open-loop modal form (built at first use) if the fast path is on, else None."""
-        if not self.fast:
+        if not self.opts.fast:
             return None
         if id(plant) not in self._modal:
             self._modal[id(plant)] = ModalLoop.of(plant)
@@ -1298,9 +1089,8 @@ class _Problem:
         if reject is not None and current is not None:
             scale = {g: max(current.value(g), 1e-300) for g in GROUPS}
             order = np.argsort([-max(lp.norm(g) / scale[g] for g in GROUPS) for lp in current.peaks], kind="stable")
-        state, n = _evaluate(self.plants, gain, self.min_decay, self.pmap, self.checks, self.min_damping, self.omega_check,
-                             self.min_damping_all, reject, order, self.chunk, (lambda p: None) if dense else self.modal,
-                             self.peak_refine, self.pool)
+        state, n = _evaluate(self.plants, gain, _MIN_DECAY, self.pmap, self.checks, self.min_damping, self.omega_check,
+                             self.opts.min_damping_all, reject, order, self.chunk, (lambda p: None) if dense else self.modal)
         self.evaluations += n
         return state
 
@@ -1317,12 +1107,12 @@ class _Problem:
         new = self.plants[len(state.peaks):]
         if not new:
             return state
-        part, n = _evaluate(new, state.gain, self.min_decay, self.pmap, (), min_damping_all=self.min_damping_all,
-                            modal=self.modal, peak_refine=self.peak_refine, pool=self.pool)
+        part, n = _evaluate(new, state.gain, _MIN_DECAY, self.pmap, (), min_damping_all=self.opts.min_damping_all,
+                            modal=self.modal)
         self.evaluations += n
         if part is None:  # only a reject test stops an evaluation
             raise RuntimeError("internal error: an evaluation without a reject test returned no state")
-        return _State(state.gain, state.peaks + part.peaks, list(state.extra), self.min_decay)
+        return _State(state.gain, state.peaks + part.peaks, list(state.extra), _MIN_DECAY)
 
     def stability_rows(self, state: _State, all_plants: bool, radius: NDArray | None = None,
                        restore: bool = False) -> list[tuple[float, NDArray, float]]:
@@ -1335,14 +1125,12 @@ class _Problem:
         def rows(eig: _Eigen, n: int) -> list[tuple[float, NDArray, float]]:
             out = []
             for v, g, req in eig.rows(n, radius):
-                target = -self.min_decay - 0.01 * req
+                target = -_MIN_DECAY - 0.01 * req
                 # restoring, a violated margin must pass its target by a quarter of its violation (a step aimed exactly at
                 # the boundary ends on it, or above it at second order)
                 out.append((v, g, 0.5 * (v + target) if v <= target else (target - 0.25 * (v - target) if restore else v)))
             return out
 
-        if self.pool is not None:
-            _prefetch_vectors(self.pool, self.plants, [lp.decomposition() for lp in state.peaks], state.gain)
         found = [r for lp in state.peaks for r in rows(lp.decomposition(), 6 if all_plants else 2)]
         extra = [x if x is not None else _eigen(p, state.gain, self.min_damping, self.omega_check, self.modal(p))
                  for x, p in zip(state.extra, self.checks)]
@@ -1350,16 +1138,16 @@ class _Problem:
         return found + [r for x in extra for r in rows(x, 12)]
 
     def radius(self, gain: NDArray) -> NDArray:
-        return self.radius0 * np.maximum(1.0, np.abs(gain.ravel()))
+        return _RADIUS0 * np.maximum(1.0, np.abs(gain.ravel()))
 
 
-def _uncovered(state: _State, worst: WorstCase, gamma: float, tol: float, margin: float, max_unstable: int = 1) -> list[Scenario]:
-    """Scenarios of the search that the set does not cover: unstable ones (at most ``max_unstable``, no two within
-    :data:`_NEAR` of each other), and the worst J or Z if worse than the set's."""
-    added = _distinct(worst.unstable, _NEAR)[:max_unstable]
-    if worst.value["rpe"] > state.value("rpe") * (1 + tol):
+def _uncovered(state: _State, worst: WorstCase, gamma: float) -> list[Scenario]:
+    """Scenarios of the search that the set does not cover: unstable ones (at most :data:`_MAX_UNSTABLE`, no two
+    within :data:`_NEAR` of each other), and the worst J or Z if more than :data:`_COVER_TOL` worse than the set's."""
+    added = _distinct(worst.unstable, _NEAR)[:_MAX_UNSTABLE]
+    if worst.value["rpe"] > state.value("rpe") * (1 + _COVER_TOL):
         added.append(worst.scenario["rpe"])
-    if worst.value["effort"] > max(state.value("effort") * (1 + tol), gamma * (1 - margin)):
+    if worst.value["effort"] > max(state.value("effort") * (1 + _COVER_TOL), gamma * (1 - _MARGIN)):
         added.append(worst.scenario["effort"])
     return _distinct(added)  # an unstable scenario is often also the worst J and Z (all inf): add it once
 
@@ -1382,17 +1170,17 @@ def _distinct(scenarios: Sequence[Scenario], near: NDArray | None = None) -> lis
 def _stabilise(prob: _Problem, state: _State) -> _State:
     """Push the spectral abscissa of every plant below ``-min_decay`` (trust-region LP on eigenvalue gradients)."""
     radius = prob.radius(state.gain)
-    least = prob.restoration == "least_change"  # until a least-change trial fails: then min-max steps
-    for _ in range(prob.max_iter):
+    least = prob.opts.restoration == "least_change"  # until a least-change trial fails: then min-max steps
+    for _ in range(prob.opts.max_iter):
         if state.stable() or np.all(radius < 1e-9):
             break
         prob.iterations += 1
         found = prob.stability_rows(state, all_plants=True, radius=radius, restore=least)
-        step = _least_change(found, radius, prob.trust_region != "box") if least else None
+        step = _least_change(found, radius, prob.opts.trust_region != "box") if least else None
         if step is not None and not np.any(step):  # the linearised margins met already: the unstable pole is not among them
             step, least = None, False
         if step is None:  # the min-max step (restoration="minmax", or no least-change step fits in the region)
-            sol = _lp([(v, g.ravel()) for v, g, _ in found], [], radius, shape=prob.trust_region)
+            sol = _lp([(v, g.ravel()) for v, g, _ in found], [], radius, shape=prob.opts.trust_region)
             if sol is None:
                 radius = radius / 4
                 continue
@@ -1411,9 +1199,7 @@ _PENALTY = 10.0  # weight of the effort excess (relative to gamma) against the r
 
 def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
     """Feasibility (Z < gamma), then min J s.t. Z < gamma and stability, by a trust-region sequential LP on the peaks.
-    Returns the state and whether the iteration limit stopped it (rather than its own convergence tests). Leaves the J
-    values of its optimisation phase's accepted steps on ``prob`` (``accepted``); with ``prob.carry_history`` it starts
-    its stopping test from them when the J of ``state`` is at most ``tol`` above their last (see :func:`synthesize`)."""
+    Returns the state and whether the iteration limit stopped it (rather than its own convergence tests)."""
     radius = prob.radius(state.gain)
     accepted: list[float] = []
     gamma = prob.gamma
@@ -1421,20 +1207,15 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
     # gamma_u (1 - margin), until Z < gamma_u (1 - margin / 2): left just under gamma_u, the optimiser, which rejects
     # every trial with Z >= gamma_u, is held to tiny steps (measured: J 0.168 with Z 0.99996 after a warm start
     # 2.8 -> 2.9 cm, where the others reach 0.02), and a phase that ended exactly at the bound aimed at would crawl to it
-    restored = gamma * (1 - 0.5 * prob.margin) if prob.restoration == "least_change" else gamma
+    restored = gamma * (1 - 0.5 * _MARGIN) if prob.opts.restoration == "least_change" else gamma
     restoring = state.value("effort") >= restored
-    if prob.carry_history and prob.accepted and not restoring and state.value("rpe") <= prob.accepted[-1] * (1 + prob.tol):
-        # the set's J barely moved since the last round (whatever a stabilisation did to the gain): its stopping test goes
-        # on. It stops this round only where J is within tol of the last round's values, which approximate that
-        # smaller set's optimum, a lower bound of this set's; a J below them counts as progress and keeps it going
-        accepted = list(prob.accepted)
     at_limit = False
-    for _ in range(prob.max_iter):
+    for _ in range(prob.opts.max_iter):
         prob.iterations += 1
         z_now = state.value("effort")
         restoring = restoring and z_now >= restored
         feasible = not restoring
-        cons = _linearise(prob.plants, state, "effort", prob.band, prob.modal)
+        cons = _linearise(prob.plants, state, "effort", _BAND, prob.modal)
         # the stability rows of the poles that could rise highest within the step's reach
         stab = prob.stability_rows(state, all_plants=False, radius=radius)
         if feasible:
@@ -1442,28 +1223,28 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             # demanding them below the bound at once can leave no room to decrease J, and a pure feasibility step
             # throws J away; the merit J/J_now + penalty * max(0, Z - target)/gamma decides acceptance
             current = state.value("rpe")
-            bound = gamma * (1 - prob.margin)
+            bound = gamma * (1 - _MARGIN)
             target = max(bound, 0.5 * (z_now + bound))
-            rpe = _linearise(prob.plants, state, "rpe", prob.band, prob.modal)
+            rpe = _linearise(prob.plants, state, "rpe", _BAND, prob.modal)
             obj = [(f / current, g / current) for f, g in rpe]
-            soft = [(c / gamma, h / gamma, target / gamma) for c, h in cons if c >= prob.band * gamma]
+            soft = [(c / gamma, h / gamma, target / gamma) for c, h in cons if c >= _BAND * gamma]
 
             def merit(j: float, z: float) -> float:
                 return j / current + _PENALTY * max(0.0, z - target) / gamma
 
-            sol = _lp(obj, stab, radius, soft, _PENALTY, prob.trust_region)
+            sol = _lp(obj, stab, radius, soft, _PENALTY, prob.opts.trust_region)
             now, pred = merit(current, z_now), (None if sol is None else sol[1] + _PENALTY * sol[2])
         else:
             sol = None
-            if prob.restoration == "least_change":  # the smallest step to the margin bound, where one fits in the region
-                bound = gamma * (1 - prob.margin)
-                step = _least_change([(c, h, bound) for c, h in cons] + stab, radius, prob.trust_region != "box")
+            if prob.opts.restoration == "least_change":  # the smallest step to the margin bound, where one fits in the region
+                bound = gamma * (1 - _MARGIN)
+                step = _least_change([(c, h, bound) for c, h in cons] + stab, radius, prob.opts.trust_region != "box")
                 sol = None if step is None else (step, max(c + h @ step for c, h in cons), 0.0)
             if sol is None:
-                sol = _lp(cons, stab, radius, shape=prob.trust_region)
+                sol = _lp(cons, stab, radius, shape=prob.opts.trust_region)
             now, pred = z_now, (None if sol is None else sol[1])
         small = np.all(radius < 1e-7 * np.maximum(1.0, np.abs(state.gain.ravel())))
-        if sol is None or pred is None or now - pred <= 1e-3 * prob.tol * now:
+        if sol is None or pred is None or now - pred <= 1e-3 * prob.opts.tol * now:
             if small:
                 break
             radius = radius / 4
@@ -1487,15 +1268,14 @@ def _optimise(prob: _Problem, state: _State) -> tuple[_State, bool]:
             logger.debug(f"it {prob.iterations}: J {trial.value('rpe'):.5f} Z {trial.value('effort'):.4f} radius {radius.max():.3g}")
             radius = radius * (2.0 if ratio > 0.75 else 1.0)
             accepted = accepted + [trial.value("rpe")] if feasible else []
-            if len(accepted) > prob.stall_steps and accepted[-prob.stall_steps - 1] - accepted[-1] < prob.tol * accepted[-1]:
-                break  # less than tol relative decrease of J over the last stall_steps accepted steps
+            if len(accepted) > _STALL_STEPS and accepted[-_STALL_STEPS - 1] - accepted[-1] < prob.opts.tol * accepted[-1]:
+                break  # less than tol relative decrease of J over the last _STALL_STEPS accepted steps
         else:
             if small:
                 break
             radius = radius / 4
     else:
         at_limit = True
-    prob.accepted = accepted
     return state, at_limit
 
 

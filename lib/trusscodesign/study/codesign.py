@@ -32,9 +32,9 @@ from ..control import synthesis
 from ..infra.checks import check_option, check_real
 from ..control.closedloop import LoopSettings
 from ..infra.results import normalise_key, read_keyed, run_lock, write_json
-from ..control.synthesis import Scenario
+from ..control.synthesis import Scenario, SynthesisOptions
 
-__all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "SYNTHESIS_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
+__all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "CODESIGN_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
            "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "on_resolution", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
 
 M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
@@ -46,22 +46,14 @@ JC_LIMIT = 2.0
 # synthesis default is 0.2 %). J_c enters f^n through |0.9 - J_c| with J_c of a few 1e-2, so the looser rule moves
 # f^n little: measured by benchmarks/robust_synthesis.py on a cold start at 2.5 cm, J_c 0.01871 with the default rule
 # and 0.01930 with this one (f^n 0.04 % apart), in 101 iterations instead of 145 (41.7 s instead of 55.6 s).
-SYNTHESIS_OPTIONS: dict[str, Any] = {"tol": 1e-2}
+CODESIGN_OPTIONS = SynthesisOptions(tol=1e-2)
 
 
-def synthesis_options(fast: bool = False, trust_region: str = "box", restoration: str = "minmax") -> dict[str, Any] | None:
-    """The co-design's synthesis options with the fast path, a trust-region shape and/or a restoration step:
-    :data:`SYNTHESIS_OPTIONS` plus what differs from the synthesis defaults, or None when nothing does (the options the
-    box-only runs were stored with, so that their checkpoints and caches keep matching).
-
-    ``fast``, ``trust_region`` ({"box", "ball"}) and ``restoration`` ({"minmax", "least_change"}) are those of
-    :func:`trusscodesign.control.synthesis.synthesize`; notebook 07's stored run uses ``(True, "ball", "least_change")``.
-    """
-    # their ValueError for an unknown trust region or restoration
-    synthesis.check_options({"trust_region": trust_region, "restoration": restoration})
-    extra = {**({"fast": True} if fast else {}), **({"trust_region": trust_region} if trust_region != "box" else {}),
-             **({"restoration": restoration} if restoration != "minmax" else {})}
-    return {**SYNTHESIS_OPTIONS, **extra} if extra else None
+def synthesis_options(fast: bool = False, trust_region: str = "box", restoration: str = "minmax") -> SynthesisOptions:
+    """The co-design's synthesis options (:data:`CODESIGN_OPTIONS`) with the fast path, a trust-region shape and a
+    restoration step (those of :class:`trusscodesign.control.synthesis.SynthesisOptions`; a ValueError for an unknown
+    shape or restoration). Notebook 07's stored runs use ``(True, "ball", "least_change")``."""
+    return CODESIGN_OPTIONS.replace(fast=fast, trust_region=trust_region, restoration=restoration)
 
 
 def objective_value(mass: float, j_c: float, m0: float) -> float:
@@ -122,7 +114,7 @@ NOT_NUMERICAL: tuple[type[Exception], ...] = (NotImplementedError, RecursionErro
 
 
 def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
-                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: dict | None = None,
+                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: SynthesisOptions | None = None,
                       scenarios0: Sequence[Sequence[float]] | None = None, truss_tolerance: float = 0.0) -> dict:
     """One objective evaluation (Steps 1-4 for one particle); a numerical failure is a penalised particle, not an error.
 
@@ -138,8 +130,8 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
         Reference mass [kg] (the paper's 183.11 kg, truss at 3 cm).
     fail : bool
         Raise inside the evaluation (to test that a failure is penalised and logged, not fatal).
-    synthesis_options : dict, optional
-        Passed to :func:`trusscodesign.study.design.robust_design` (default :data:`SYNTHESIS_OPTIONS`).
+    synthesis_options : SynthesisOptions, optional
+        Of :func:`trusscodesign.study.design.robust_design` (default :data:`CODESIGN_OPTIONS`).
     scenarios0 : sequence of 4-vectors, optional
         Initial scenario set of the synthesis, normalised ``(d_mass, d_iyy, d_omega1, theta)`` (default: the
         21 of :func:`trusscodesign.control.synthesis.default_scenarios`); the warm start passes the set the best particle ended with,
@@ -191,8 +183,8 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
             out["mass"] = mass_dc
             t1 = time.perf_counter()
             scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
-            opts = SYNTHESIS_OPTIONS if synthesis_options is None else synthesis_options
-            res = design.robust_design(models, settings, gain0=gain0, scenarios=scen, variants=variants, workers=1, **opts)
+            opts = CODESIGN_OPTIONS if synthesis_options is None else synthesis_options
+            res = design.robust_design(models, settings, opts, gain0=gain0, variants=variants, scenarios=scen, workers=1)
             out["t_synthesis"] = time.perf_counter() - t1
         record = design.design_record(res)  # with the critical frequencies [rad/s] and panel angles [deg]
         out.update({k: record[k] for k in _CRITICAL})
@@ -245,28 +237,12 @@ def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float
     return _with_objective(out, m0)
 
 
-# options of design.robust_design itself; the others go to synthesis.synthesize, except those evaluate_particle sets
-_DESIGN_OPTIONS = ("spillover", "restarts")
-_SET_BY_PARTICLE = ("model", "inertia_p1", "settings", "gain0", "scenarios", "workers", "stability_models", "variants")
-
-
 def _check_synthesis_options(options: object) -> None:
-    """Raise (TypeError for an unknown name or a non-number, ValueError for a value out of range) unless ``options`` are
-    options :func:`evaluate_particle` can pass to :func:`trusscodesign.study.design.robust_design`: checked once, before any particle,
-    instead of failing every particle after its model is built."""
-    if options is None:
-        return
-    if not isinstance(options, Mapping):
-        raise TypeError(f"synthesis_options must be a dict of options of trusscodesign.study.design.robust_design, got {type(options).__name__}")
-    taken = sorted(set(options) & set(_SET_BY_PARTICLE))
-    if taken:
-        raise TypeError(f"synthesis_options cannot set {taken}: evaluate_particle sets them")
-    if "restarts" in options:
-        check_option("restarts", options["restarts"], 0, integer=True)
-    try:
-        synthesis.check_options({k: v for k, v in options.items() if k not in _DESIGN_OPTIONS})
-    except TypeError as exc:
-        raise TypeError(f"synthesis_options: {exc} (and {list(_DESIGN_OPTIONS)} of trusscodesign.study.design.robust_design)") from None
+    """A TypeError unless ``options`` are None (:data:`CODESIGN_OPTIONS`) or a SynthesisOptions: checked once, before any
+    particle."""
+    if options is not None and not isinstance(options, SynthesisOptions):
+        raise TypeError(f"synthesis_options must be a trusscodesign.control.synthesis.SynthesisOptions (or None: "
+                        f"CODESIGN_OPTIONS), got {type(options).__name__}")
 
 
 def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, params: dict | None,
@@ -325,7 +301,7 @@ def close_client(client) -> None:
 
 def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
                    params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
-                   synthesis_options: dict | None = None,
+                   synthesis_options: SynthesisOptions | None = None,
                    scenarios0: Sequence[Sequence[float]] | None = None, partial: str | Path | None = None,
                    partial_key: dict | None = None, truss_tolerance: float = 0.0) -> list[dict]:
     """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
@@ -459,12 +435,12 @@ START_RULES = ("previous_best", "cold")
 
 
 def evaluation_key(settings: LoopSettings | None, params: dict | None, m0: float = M0_PAPER,
-                   synthesis_options: dict | None = None, truss_tolerance: float = 0.0) -> dict:
+                   synthesis_options: SynthesisOptions | None = None, truss_tolerance: float = 0.0) -> dict:
     """What a cold-started evaluation of h depends on besides h (the key of :func:`evaluations_path`'s file, as
     :func:`evaluate_swarm`'s ``partial_key``): the objective (loop settings, spacecraft parameters, model, m0, truss
     tolerance), the synthesis options and version. A grid evaluated under this key shares its evaluations with the swarm."""
     return {"start": "cold", "objective": _objective_key(settings, params, m0, truss_tolerance),
-            "options": _normalised_options(synthesis_options), "algorithm": synthesis.ALGORITHM}
+            "options": _options_key(synthesis_options), "algorithm": synthesis.ALGORITHM}
 
 
 def on_resolution(h: float, resolution: float | None, h_range: Sequence[float]) -> float:
@@ -543,14 +519,14 @@ def evaluate_grid(hs: Sequence[float], client=None, settings: LoopSettings | Non
         return cast(list[dict], records), time_s  # every record is filled by now
 
 
-def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: dict | None = None,
+def grid_key(hs: Sequence[float], settings: LoopSettings, synthesis_options: SynthesisOptions | None = None,
              params: dict | None = None, truss_tolerance: float = 0.0) -> dict:
     """The key of a stored grid of the objective (notebook 07's ``07_grid*.json``, :func:`evaluate_grid`'s ``key``):
     the section sides [m], the loop settings, the synthesis options and version, the spacecraft parameters'
     fingerprint (:func:`trusscodesign.model.spacecraft.parameters_fingerprint`) and the model's version
     (:data:`trusscodesign.model.spacecraft.MODEL`), and the truss tolerance when there is one; a grid stored under another key
     is recomputed."""
-    key = {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": synthesis_options or SYNTHESIS_OPTIONS,
+    key = {"h": [float(h) for h in hs], "settings": settings.__dict__, "synthesis": _options_key(synthesis_options),
            "algorithm": synthesis.ALGORITHM, "parameters": spacecraft.parameters_fingerprint(params), "model": spacecraft.MODEL}
     return {**key, **_tolerance_entry(truss_tolerance)}
 
@@ -596,9 +572,12 @@ def _changes(stored: dict, objective: dict) -> str:
     return "; ".join(out) or "the same key"
 
 
-def _normalised_options(options: dict | None) -> Any:
-    """Synthesis options as a checkpoint stores them (JSON types; None means :data:`SYNTHESIS_OPTIONS`)."""
-    return json.loads(json.dumps(SYNTHESIS_OPTIONS if options is None else options, default=str))
+def _options_key(options: SynthesisOptions | Mapping[str, Any] | None) -> dict[str, Any]:
+    """Synthesis options as stored keys hold them (:meth:`SynthesisOptions.key`; None means :data:`CODESIGN_OPTIONS`);
+    a stored key (a dict) as is."""
+    if options is None:
+        options = CODESIGN_OPTIONS
+    return options.key() if isinstance(options, SynthesisOptions) else json.loads(json.dumps(dict(options), default=str))
 
 
 def check_study(h_min: object, h_max: object, n_particles: object, n_iterations: object, n_grid: object,
@@ -654,7 +633,7 @@ def _check_h_range(h_range: object, params: dict | None = None) -> None:
 
 
 def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequence[float], seed: int, pso_rule: str,
-                         synthesis_options: dict | None, objective: dict, start: str = "previous_best",
+                         synthesis_options: SynthesisOptions | None, objective: dict, start: str = "previous_best",
                          h_resolution: float | None = None) -> str | None:
     """Why the swarm checkpoint stored at ``checkpoint`` cannot be resumed by a run with these settings (None if it can):
     another synthesis version or options, another objective (:func:`_objective_key`: what changed is named), or
@@ -665,8 +644,8 @@ def _checkpoint_mismatch(checkpoint: str | Path, n_particles: int, h_range: Sequ
     found = state.extra.get("algorithm")
     if found != synthesis.ALGORITHM:
         return f"it was computed by the synthesis {found!r}, not the current {synthesis.ALGORITHM!r}"
-    if _normalised_options(state.extra.get("options")) != _normalised_options(synthesis_options):
-        return f"it was computed with synthesis options {state.extra.get('options')!r}, not {synthesis_options!r}"
+    if _options_key(state.extra.get("options")) != _options_key(synthesis_options):
+        return f"it was computed with synthesis options {state.extra.get('options')!r}, not {_options_key(synthesis_options)!r}"
     stored = state.extra.get("objective", {})
     if not _same_objective(stored, objective):
         return f"it was computed for another objective ({_changes(stored, objective)})"
@@ -704,7 +683,7 @@ def evaluation_counts(history: Sequence[Mapping[str, Any]], start: str = "previo
 def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[float, float] = (0.015, 0.03), seed: int = 0,
                  client=None, checkpoint=None, settings: LoopSettings | None = None, params: dict | None = None,
                  m0: float = M0_PAPER, progress: bool = True, fail_particles: Sequence[tuple[int, int]] = (),
-                 stop_after: int | None = None, log=print, synthesis_options: dict | None = None, pso_rule: str = "documented",
+                 stop_after: int | None = None, log=print, synthesis_options: SynthesisOptions | None = None, pso_rule: str = "documented",
                  on_stale: str = "refuse", truss_tolerance: float = 0.0, start: str = "previous_best",
                  h_resolution: float | None = None):
     """The paper's particle-swarm co-design over h (Steps 1-4 per particle, the swarm in parallel).
@@ -727,8 +706,8 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
         Stop after this many iterations (tests of the resume).
     log : callable
         Receives the one-line summary of each iteration.
-    synthesis_options : dict, optional
-        Passed to the synthesis of every particle (default :data:`SYNTHESIS_OPTIONS`).
+    synthesis_options : SynthesisOptions, optional
+        Of the synthesis of every particle (default :data:`CODESIGN_OPTIONS`).
     pso_rule : {"documented", "matlab"}
         MATLAB ``particleswarm``'s adaptive rules as documented (default; the stored swarms) or as its code applies
         them (:mod:`trusscodesign.study.pso`); a checkpoint is only resumed with the rule it was started with.
@@ -789,7 +768,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
 
         def evaluate(x: NDArray, state) -> list[dict]:
             t0 = time.perf_counter()
-            state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, synthesis_options, objective
+            state.extra["algorithm"], state.extra["options"], state.extra["objective"] = synthesis.ALGORITHM, _options_key(synthesis_options), objective
             if start != "previous_best" or h_resolution is not None:  # (absent: the runs stored before they existed)
                 state.extra["start"], state.extra["h_resolution"] = start, h_resolution
             fails = [p for it, p in fail_particles if it == state.iteration]
@@ -801,7 +780,7 @@ def run_codesign(n_particles: int = 24, n_iterations: int = 20, h_range: tuple[f
                 gain0, scen0 = state.extra.get("best_gain"), state.extra.get("best_scenarios")
                 part = None if checkpoint is None else partial_path(checkpoint)
                 key = {"iteration": state.iteration, "x": x.tolist(), "algorithm": synthesis.ALGORITHM, "seed": seed,
-                       "objective": objective, "options": synthesis_options}
+                       "objective": objective, "options": _options_key(synthesis_options)}
             recs = evaluate_swarm([on_resolution(float(v[0]), h_resolution, h_range) for v in x], gain0, client, settings,
                                   params, m0, fails, progress, synthesis_options=synthesis_options, scenarios0=scen0,
                                   partial=part, partial_key=key, truss_tolerance=truss_tolerance)

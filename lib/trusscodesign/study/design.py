@@ -28,8 +28,7 @@ from ..model import reduction, spacecraft
 from ..infra import results
 from ..control.closedloop import LoopSettings
 from ..model.lft import LFT
-from ..infra.checks import check_option
-from ..control.synthesis import NOT_STABILISED, Scenario, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
+from ..control.synthesis import NOT_STABILISED, Scenario, SynthesisOptions, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
 __all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "stored_preset", "TABLE_DESIGNS", "table_design", "truss_shift_check",
            "truss_variants"]
@@ -240,28 +239,25 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
     return rows
 
 
-def robust_design(models: DesignModels, settings: LoopSettings | None = None, gain0: ArrayLike | None = None,
-                  spillover: bool = True, variants: Sequence[DesignModels] = (), restarts: int = 0,
-                  **kwargs) -> SynthesisResult:
+def robust_design(models: DesignModels, settings: LoopSettings | None = None, options: SynthesisOptions | None = None,
+                  gain0: ArrayLike | None = None, variants: Sequence[DesignModels] = (),
+                  scenarios: Sequence[Scenario] | None = None, workers: int | None = None) -> SynthesisResult:
     """Robust structured synthesis of ``K_PMA`` at the design point (:func:`trusscodesign.control.synthesis.synthesize` on ``G_r``).
 
     Parameters
     ----------
     models : DesignModels
     settings : LoopSettings, optional
-    gain0 : array_like (4, 8), optional
-        Starting gain (default: all -1, as the paper; or the gain of a neighbouring design).
-    spillover : bool
+    options : SynthesisOptions, optional
+        The synthesis's options (default ``SynthesisOptions()``), of which two are the design's own, below.
+    options.spillover : bool
         Add the nominal closed loop on ``models.g_check`` (``G_r_low`` up to 1e4 rad/s) as a stability-only model
-        (see the module docstring), whose modes above the cut frequency of ``G_r`` must keep a damping ratio of
-        ``min_damping``: by default half the truss damping ratio ``models.truss_damping`` (5e-4 for the paper's 1e-3;
-        the passive spacecraft has at least 0.73 times it there, at 2.139 cm). A fixed 5e-4 would make a truss damped
+        (see the module docstring), whose modes above the cut frequency of ``G_r`` (``options.omega_check``; None: ``models.omega_max``)
+        must keep a damping ratio of ``options.min_damping``: by default (None) half the truss damping ratio
+        ``models.truss_damping`` (5e-4 for the paper's 1e-3; the passive spacecraft has at least 0.73 times it there,
+        at 2.139 cm). A fixed 5e-4 would make a truss damped
         at 1e-4 (passive: 7.4e-5 there) infeasible from any starting gain.
-    variants : sequence of DesignModels
-        Further models the gain must serve as well (e.g. :func:`truss_variants`): their ``G_r`` enter the synthesis as
-        variants of the scenario set (see :func:`trusscodesign.control.synthesis.synthesize`) and, with ``spillover``, their nominal
-        spillover loops as stability-only models. Default none: the paper's synthesis.
-    restarts : int
+    options.restarts : int
         How many times a failed synthesis is started again from its final gain, with the starting scenario set (default
         0: a failure is returned, flagged, as the co-design's stored runs had it). Not after a failure to stabilise
         from the starting gain (the gain has not moved); a failure to stabilise the scenarios a later round added is
@@ -270,21 +266,31 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, ga
         the truss-tolerant fast-path design at 2.1 cm stopped after 6 rounds with Z_c 1.234 (each worst-case search
         found a worse effort scenario than the set), and one restart from its gain converged (Z_c 0.982; 470 s for both attempts).
         The result is valid on its own checks (the last attempt's scenario set, search and final evaluation).
-    **kwargs
-        Passed to :func:`trusscodesign.control.synthesis.synthesize`.
+    gain0 : array_like (4, 8), optional
+        Starting gain (default: all -1, as the paper; or the gain of a neighbouring design).
+    variants : sequence of DesignModels
+        Further models the gain must serve as well (e.g. :func:`truss_variants`): their ``G_r`` enter the synthesis as
+        variants of the scenario set (see :func:`trusscodesign.control.synthesis.synthesize`) and, with ``spillover``, their nominal
+        spillover loops as stability-only models. Default none: the paper's synthesis.
+    scenarios : sequence of Scenario, optional
+        The starting scenario set (default :func:`trusscodesign.control.synthesis.default_scenarios`).
+    workers : int, optional
+        Threads of the synthesis (``workers=1`` on a Dask worker).
     """
-    check_option("restarts", restarts, 0, integer=True)  # TypeError for a non-integer, ValueError below 0
+    opts = SynthesisOptions() if options is None else options
+    if not isinstance(opts, SynthesisOptions):
+        raise TypeError(f"options must be a SynthesisOptions, got {type(opts).__name__}")
     settings = settings or LoopSettings.from_parameters()
-    checks = [plant_at(m.g_check, Scenario(), m.inertia, settings) for m in (models, *variants)] if spillover else []
-    kwargs.setdefault("omega_check", models.omega_max)
-    kwargs.setdefault("min_damping", 0.5 * models.truss_damping)
+    checks = [plant_at(m.g_check, Scenario(), m.inertia, settings) for m in (models, *variants)] if opts.spillover else []
+    opts = opts.replace(omega_check=models.omega_max if opts.omega_check is None else opts.omega_check,
+                        min_damping=0.5 * models.truss_damping if opts.min_damping is None else opts.min_damping)
 
     def run(start: ArrayLike | None) -> SynthesisResult:
-        return synthesize(models.g_r, models.inertia, settings, gain0=start, stability_models=checks,
-                          variants=[(m.g_r, m.inertia) for m in variants], **kwargs)
+        return synthesize(models.g_r, models.inertia, settings, opts, gain0=start, scenarios=scenarios, stability_models=checks,
+                          variants=[(m.g_r, m.inertia) for m in variants], workers=workers)
 
     res, first = run(gain0), ""
-    for attempt in range(1, restarts + 1):
+    for attempt in range(1, opts.restarts + 1):
         if res.success or res.message == NOT_STABILISED:  # later rounds' failures to stabilise are restarted
             break
         first = first or res.message
@@ -312,7 +318,7 @@ def design_record(res: SynthesisResult) -> dict[str, Any]:
 
 
 def tolerant_designs(h: float, shifts: Sequence[float], params: dict | None = None, settings: LoopSettings | None = None,
-                     restarts: int = 0, workers: int | None = None) -> dict[str, dict[str, Any]]:
+                     options: SynthesisOptions | None = None, workers: int | None = None) -> dict[str, dict[str, Any]]:
     """The paper's recipe (the exact truss) and a truss-tolerant design at ``h`` [m], as :func:`design_record` records.
 
     The tolerant design serves the truss at ``h (1 + shift)`` for each of ``shifts`` as well (:func:`truss_variants`,
@@ -326,8 +332,8 @@ def tolerant_designs(h: float, shifts: Sequence[float], params: dict | None = No
         Relative changes of the section side the tolerant design must serve (nonzero, in (-0.5, 0.5)).
     params, settings
         Spacecraft parameters (default: the package's) and loop settings (default: those of ``params``).
-    restarts, workers
-        As :func:`robust_design` and :func:`trusscodesign.control.synthesis.synthesize` (``workers=1`` on a Dask worker).
+    options, workers
+        As :func:`robust_design` (``workers=1`` on a Dask worker).
 
     Returns
     -------
@@ -341,7 +347,7 @@ def tolerant_designs(h: float, shifts: Sequence[float], params: dict | None = No
     variants = truss_variants(m, shifts, p)  # bad shifts refused before the first synthesis
     out = {}
     for name, extra in (("recipe", []), ("tolerant", variants)):
-        res = robust_design(m, settings, variants=extra, restarts=restarts, workers=workers)
+        res = robust_design(m, settings, options, variants=extra, workers=workers)
         out[name] = {**design_record(res), "time_s": time.perf_counter() - t0}
         t0 = time.perf_counter()
     return out

@@ -27,7 +27,10 @@ from ..control import synthesis
 from ..control.closedloop import LoopSettings
 from ..infra.results import read_keyed, run_lock, write_json
 
-__all__ = ["Lever", "levers", "case_inputs", "combined_inputs", "preset_case", "check_cases", "evaluate_case", "study", "open_loop_map"]
+__all__ = ["STUDY_OPTIONS", "Lever", "levers", "case_inputs", "combined_inputs", "preset_case", "check_cases", "evaluate_case", "study", "open_loop_map"]
+
+# the robust designs of the study: the synthesis's defaults, a failed synthesis restarted twice from its final gain
+STUDY_OPTIONS = synthesis.SynthesisOptions(restarts=2)
 
 Case = tuple[str, Any] | Mapping[str, Any]  # one lever at one value, or {lever name: value} for several
 
@@ -260,7 +263,8 @@ class _Sized:
 
 
 def evaluate_case(h: float, changes: Mapping[str, Any], params: dict, settings: LoopSettings, robust: bool = True,
-                  restarts: int = 2, models: design.DesignModels | None = None, workers: int | None = None) -> dict[str, Any]:
+                  options: synthesis.SynthesisOptions = STUDY_OPTIONS, models: design.DesignModels | None = None,
+                  workers: int | None = None) -> dict[str, Any]:
     """Open-loop worst case and robust design at section side ``h`` [m] of one case.
 
     Parameters
@@ -273,8 +277,9 @@ def evaluate_case(h: float, changes: Mapping[str, Any], params: dict, settings: 
         The inputs of every other lever.
     robust : bool
         Also run the robust synthesis (default); False: the open loop only.
-    restarts : int
-        Restarts of a failed synthesis (:func:`trusscodesign.study.design.robust_design`).
+    options : SynthesisOptions
+        Of the robust design (:func:`trusscodesign.study.design.robust_design`; default :data:`STUDY_OPTIONS`: two
+        restarts of a failed synthesis).
     models : DesignModels, optional
         The models at ``h`` for ``params``, reused when the case changes loop settings only (built here otherwise).
     workers : int, optional
@@ -300,13 +305,14 @@ def evaluate_case(h: float, changes: Mapping[str, Any], params: dict, settings: 
                            "open_loop_theta_deg": float(np.rad2deg(ol.scenario["rpe"].theta)),
                            "open_loop_share": float(authority.authority_share(plant, [ol.omega["rpe"]])[0])}
     if robust:
-        row.update(design.design_record(design.robust_design(m, s, restarts=restarts, workers=workers)))
+        row.update(design.design_record(design.robust_design(m, s, options, workers=workers)))
     row["time_s"] = time.perf_counter() - t0
     return row
 
 
 def study(h: float, cases: Sequence[Case], params: dict | None = None, settings: LoopSettings | None = None,
-          robust: bool = True, restarts: int = 2, client=None, partial: str | Path | None = None,
+          robust: bool = True, options: synthesis.SynthesisOptions = STUDY_OPTIONS, client=None,
+          partial: str | Path | None = None,
           progress: Callable[[Iterable], Iterable] = iter) -> list[dict[str, Any]]:
     """:func:`evaluate_case` for each case of ``cases``, in the order given.
 
@@ -319,7 +325,7 @@ def study(h: float, cases: Sequence[Case], params: dict | None = None, settings:
         ``{lever name: value, ...}`` for several levers at once.
     params, settings
         Defaults: the package's parameters and their loop settings.
-    robust, restarts
+    robust, options
         As :func:`evaluate_case`.
     client : dask.distributed.Client, optional
         Runs the cases in parallel (e.g. :func:`trusscodesign.study.codesign.local_client`); default: this process.
@@ -347,7 +353,7 @@ def study(h: float, cases: Sequence[Case], params: dict | None = None, settings:
     first: dict[str, dict[str, Any]] = {}
     for t, c in zip(tags, cases):
         first.setdefault(t, _changes(c))
-    key = dict(h=h, inputs=spacecraft.inputs_key(params), settings=settings.__dict__, robust=robust, restarts=restarts,
+    key = dict(h=h, inputs=spacecraft.inputs_key(params), settings=settings.__dict__, robust=robust, options=options.key(),
                algorithm=ALGORITHM)
     with run_lock(partial) if partial is not None else nullcontext():
         stored, key = read_keyed(partial, key)
@@ -359,12 +365,12 @@ def study(h: float, cases: Sequence[Case], params: dict | None = None, settings:
             yield from ((t, done[t]) for t in first if t in done)
             if client is None:
                 for t, changes in todo:
-                    yield t, evaluate_case(h, changes, params, settings, robust, restarts, base)
+                    yield t, evaluate_case(h, changes, params, settings, robust, options, base)
                 return
             from .codesign import _as_finished
 
             m = client.scatter(base, broadcast=True)
-            futures = {client.submit(evaluate_case, h, changes, params, settings, robust, restarts, m, 1,
+            futures = {client.submit(evaluate_case, h, changes, params, settings, robust, options, m, 1,
                                      pure=False, retries=1): t for t, changes in todo}
             for fut in _as_finished(client, futures):
                 yield futures[fut], fut.result()
