@@ -11,7 +11,7 @@ from scipy.optimize import linear_sum_assignment
 from trusscodesign.control import hinf, synthesis
 from trusscodesign.control.closedloop import GeneralizedPlant, LoopSettings
 from trusscodesign.control.modalloop import ModalLoop, _symmetrise, aberth_poles, sigma_max
-from trusscodesign.control.synthesis import Scenario, plant_at
+from trusscodesign.control.synthesis import Scenario, peaks, plant_at
 from trusscodesign.model.statespace import frequency_response
 
 ST = LoopSettings.from_parameters()
@@ -226,7 +226,7 @@ def _synthetic_plant(rng: np.random.Generator, n_modes: int = 14, weak: int = 0,
 
 def _dense_gradients(plant: GeneralizedPlant, gain: np.ndarray, lam: np.ndarray) -> list[np.ndarray]:
     """``d lambda / dK`` (4x8) of each pole, from LAPACK's eigenvectors, the pole matched by nearest distance."""
-    eig = synthesis._eigen(plant, gain)
+    eig = peaks._eigen(plant, gain)
     left, right = eig.vectors()
     return [np.outer(left[j], right[:, j]) for j in (int(np.argmin(np.abs(eig.lam - x))) for x in lam)]
 

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import slycot
 from trusscodesign.control import synthesis
+from trusscodesign.control.synthesis import optimiser, options, peaks, scenarios, search, steps
 from trusscodesign.control.closedloop import LoopSettings
 from trusscodesign.control.synthesis import Scenario, SynthesisOptions, plant_at
 from trusscodesign.model import spacecraft
@@ -66,12 +67,12 @@ def test_nested_grid_refinement_of_several_brackets():
 
     los = np.array([np.log(lam.imag * (1 - 1e-3)) for lam in lams])
     his = np.array([np.log(lam.imag * (1 + 1e-3)) for lam in lams])
-    values, logw = synthesis._zoom_max(lambda x: np.stack([mag(lam, row) for lam, row in zip(lams, x)]), los, his)
+    values, logw = peaks._zoom_max(lambda x: np.stack([mag(lam, row) for lam, row in zip(lams, x)]), los, his)
     for j, lam in enumerate(lams):
         w_peak, exact = lam.imag, 1.0 / abs(lam.real)
         assert abs(values[j] / exact - 1) < 1e-9
         assert abs(np.exp(logw[j]) / w_peak - 1) < 3e-5 * 2e-3
-        alone = synthesis._zoom_max(lambda x, lam=lam: mag(lam, x), los[j:j + 1], his[j:j + 1])
+        alone = peaks._zoom_max(lambda x, lam=lam: mag(lam, x), los[j:j + 1], his[j:j + 1])
         assert alone[0][0] == values[j] and alone[1][0] == logw[j]
 
 
@@ -110,7 +111,7 @@ def test_worst_case_refinement_evaluates_its_group_only(model, inertia, monkeypa
         asked.append(tuple(kwargs.get("groups", synthesis.GROUPS)))
         return loop_peaks(*args, **{**kwargs, "groups": synthesis.GROUPS})
 
-    monkeypatch.setattr(synthesis, "loop_peaks", both_groups)
+    monkeypatch.setattr(search, "loop_peaks", both_groups)
     ref = synthesis.worst_case(model, GAIN, inertia, ST, **kw)
     assert ("rpe",) in asked and ("effort",) in asked
     assert own.evaluations == ref.evaluations
@@ -137,13 +138,13 @@ def test_margin_gradient_against_finite_differences(plant):
     """Gradient of ``Re lambda + zeta_req |lambda|`` (the |lambda| term included) for a large zeta_req, where
     dropping it would be off by far more than the tolerance."""
     zeta_req = 0.05
-    eig = synthesis._eigen(plant, GAIN, min_damping=zeta_req, omega_check=0.0)
+    eig = peaks._eigen(plant, GAIN, min_damping=zeta_req, omega_check=0.0)
     rng = np.random.default_rng(3)
     for value, grad, req in eig.rows(3):
         i = int(np.argmin(np.abs(eig.value - value)))
         assert np.isclose(req, zeta_req * abs(eig.lam[i]))
         step = 1e-4 * rng.normal(size=(4, 8))
-        moved = synthesis._eigen(plant, GAIN + step, min_damping=zeta_req, omega_check=0.0)
+        moved = peaks._eigen(plant, GAIN + step, min_damping=zeta_req, omega_check=0.0)
         j = int(np.argmin(np.abs(moved.lam - eig.lam[i])))
         fd = moved.value[j] - value
         assert abs(fd - np.sum(grad * step)) < 1e-3 * abs(fd) + 1e-12
@@ -152,10 +153,10 @@ def test_margin_gradient_against_finite_differences(plant):
 def test_elastic_lp():
     """min t s.t. t >= d, d <= -1 (hard) is infeasible in |d| <= 0.5; with the constraint soft it takes the slack."""
     objective = [(0.0, np.array([1.0]))]
-    assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5])) is None
-    d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0)
+    assert steps._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5])) is None
+    d, t, s = steps._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0)
     assert np.allclose([d[0], t, s], [-0.5, -0.5, 0.5])
-    d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), 1.0)], penalty=10.0)
+    d, t, s = steps._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), 1.0)], penalty=10.0)
     assert np.allclose([d[0], t, s], [-0.5, -0.5, 0.0])
 
 
@@ -167,7 +168,7 @@ def test_margin_rows_within_the_trust_region_pick_the_sensitive_pole():
     b_v = np.zeros((4, 4), dtype=complex)
     c_y = np.zeros((8, 4), dtype=complex)
     b_v[2:, 0], c_y[0, 2:] = 1.0, 1.0  # only the 100 rad/s mode is coupled to the gain
-    eig = synthesis._Eigen.dense(lam, vr, lam.real.copy(), b_v, c_y)
+    eig = peaks._Eigen.dense(lam, vr, lam.real.copy(), b_v, c_y)
     assert len(eig.rows(1)) == 1 and np.allclose(eig.rows(1)[0][0], -0.01)
     rows = eig.rows(1, radius=np.full(32, 10.0))  # reach 10 > 1 - 0.01
     assert len(rows) == 2 and np.isclose(rows[0][0], -0.01) and not np.any(rows[0][1])
@@ -256,11 +257,11 @@ def test_merged_worst_case_takes_each_group_from_the_loop_where_it_is_worst():
     a_sc, b_sc, u_sc = Scenario(-1.0, 0.0, 0.0, 0.3), Scenario(1.0, 1.0, -1.0, 2.0), Scenario(0.5, 0.5, 0.5, 1.0)
     a = synthesis.WorstCase({"rpe": 0.03, "effort": 0.9}, {"rpe": a_sc, "effort": a_sc}, {"rpe": 4.1, "effort": 3.7}, 200)
     b = synthesis.WorstCase({"rpe": 0.05, "effort": 0.4}, {"rpe": b_sc, "effort": b_sc}, {"rpe": 420.0, "effort": 161.0}, 180, [u_sc])
-    m = synthesis._merge([a, b])
+    m = search._merge([a, b])
     assert m.value == {"rpe": 0.05, "effort": 0.9} and m.omega == {"rpe": 420.0, "effort": 3.7}
     assert m.scenario["rpe"] is b_sc and m.scenario["effort"] is a_sc
     assert m.evaluations == 380 and m.unstable == [u_sc]
-    assert synthesis._merge([a]) is a
+    assert search._merge([a]) is a
 
 
 def test_bad_variants(model, inertia):
@@ -317,10 +318,10 @@ def test_variants_are_built_at_every_scenario_and_searched(monkeypatch, model, i
         return synthesis.WorstCase({"rpe": 1.0 if worse else 0.001, "effort": 0.1}, {"rpe": s_new if worse else s1, "effort": s1},
                                    {"rpe": 3.0, "effort": 2.0}, 10)
 
-    monkeypatch.setattr(synthesis, "plant_at", fake_plant)
-    monkeypatch.setattr(synthesis, "loop_peaks", fake_peaks)
-    monkeypatch.setattr(synthesis, "worst_case", fake_search)
-    monkeypatch.setattr(synthesis, "_optimise", lambda prob, state: (state, False))
+    monkeypatch.setattr(optimiser, "plant_at", fake_plant)
+    monkeypatch.setattr(optimiser, "loop_peaks", fake_peaks)
+    monkeypatch.setattr(optimiser, "worst_case", fake_search)
+    monkeypatch.setattr(optimiser, "_optimise", lambda prob, state: (state, False))
     res = synthesis.synthesize(model, inertia, ST, scenarios=[s1, s2], variants=[(model, 2.0 * inertia)], workers=1)
     assert built == [(1.0, s1), (1.0, s2), (2.0, s1), (2.0, s2), (1.0, s_new), (2.0, s_new)]
     assert searched == [1.0, 2.0, 1.0, 2.0]
@@ -485,10 +486,10 @@ def test_search_options_are_checked(option, value, error):
 
 def test_a_single_small_angle_in_degrees_is_accepted():
     """Only a grid of *several* angles all within pi is refused as radians: one angle of 2 deg is a valid grid."""
-    assert synthesis._thetas_deg([2.0]).tolist() == [2.0]
+    assert scenarios._thetas_deg([2.0]).tolist() == [2.0]
     assert len(synthesis.default_scenarios([1.0])) == 1 + 4
     with pytest.raises(ValueError, match="radians"):
-        synthesis._thetas_deg([0.0, 3.0])
+        scenarios._thetas_deg([0.0, 3.0])
 
 
 def test_default_scenarios_convert_the_angles_to_radians():
@@ -501,9 +502,9 @@ def test_default_scenarios_convert_the_angles_to_radians():
 
 def test_zoom_max_stays_inside_its_bracket():
     """A maximum at a bracket's end is found there and never outside the bracket (the refined grids are clipped)."""
-    values, x = synthesis._zoom_max(lambda x: x.copy(), np.array([0.0, -2.0]), np.array([1.0, -1.0]))
+    values, x = peaks._zoom_max(lambda x: x.copy(), np.array([0.0, -2.0]), np.array([1.0, -1.0]))
     assert x.tolist() == [1.0, -1.0] and values.tolist() == [1.0, -1.0]
-    values, x = synthesis._zoom_max(lambda x: -x, np.array([0.0]), np.array([1.0]))
+    values, x = peaks._zoom_max(lambda x: -x, np.array([0.0]), np.array([1.0]))
     assert x.tolist() == [0.0] and values.tolist() == [0.0]
 
 
@@ -511,7 +512,7 @@ def test_initial_simplex_is_inside_the_box_with_the_documented_steps():
     """Steps 0.3 (normalised) and 10 deg, one coordinate per vertex, every vertex inside [-1, 1]^3 x [0, pi]."""
     steps = np.array([0.3, 0.3, 0.3, np.deg2rad(10.0)])
     for x0 in (np.zeros(4), np.array([1.0, -1.0, 0.9, np.pi]), np.array([-1.0, 1.0, -0.8, 0.0]), np.array([0.5, 0.75, 1.0, 3.1])):
-        s = synthesis._simplex(x0)
+        s = search._simplex(x0)
         assert s.shape == (5, 4) and np.array_equal(s[0], x0)
         assert np.all(s[:, :3] >= -1.0) and np.all(s[:, :3] <= 1.0) and np.all(s[:, 3] >= 0.0) and np.all(s[:, 3] <= np.pi)
         np.testing.assert_allclose(np.abs(s[1:] - x0), np.diag(steps), atol=1e-15)
@@ -536,18 +537,18 @@ def test_uncovered_adds_unstable_and_worse_scenarios_only():
         return synthesis.WorstCase({"rpe": j, "effort": z}, {"rpe": s_j, "effort": s_z}, {"rpe": 1.0, "effort": 2.0}, 1, list(unstable))
 
     state = _SetValues(0.10, 0.90)
-    assert synthesis._uncovered(state, search(0.1009, 0.95), 1.0) == []  # J within 1 %, Z below 0.98
-    assert synthesis._uncovered(state, search(0.1011, 0.95), 1.0) == [s_j]
-    assert synthesis._uncovered(state, search(0.10, 0.985), 1.0) == [s_z]  # above 0.98 and 1.01 x 0.90
-    assert synthesis._uncovered(_SetValues(0.1, 0.99), search(0.10, 0.995), 1.0) == []  # within 1 % of the set's Z
-    assert synthesis._uncovered(state, search(0.10, 0.5, [s_u, s_v]), 1.0) == [s_u]
+    assert optimiser._uncovered(state, search(0.1009, 0.95), 1.0) == []  # J within 1 %, Z below 0.98
+    assert optimiser._uncovered(state, search(0.1011, 0.95), 1.0) == [s_j]
+    assert optimiser._uncovered(state, search(0.10, 0.985), 1.0) == [s_z]  # above 0.98 and 1.01 x 0.90
+    assert optimiser._uncovered(_SetValues(0.1, 0.99), search(0.10, 0.995), 1.0) == []  # within 1 % of the set's Z
+    assert optimiser._uncovered(state, search(0.10, 0.5, [s_u, s_v]), 1.0) == [s_u]
     both = synthesis.WorstCase({"rpe": np.inf, "effort": np.inf}, {"rpe": s_u, "effort": s_u}, {"rpe": 1.0, "effort": 1.0}, 1, [s_u])
-    assert synthesis._uncovered(state, both, 1.0) == [s_u]
+    assert optimiser._uncovered(state, both, 1.0) == [s_u]
 
 
 def test_per_group_evaluates_each_point_with_its_own_group():
     group_of = np.array([1, 0, 1, 1, 0])
-    out = synthesis._per_group(("rpe", "effort"), group_of, lambda g, at: np.full(at.sum(), 1.0 if g == "rpe" else 2.0))
+    out = peaks._per_group(("rpe", "effort"), group_of, lambda g, at: np.full(at.sum(), 1.0 if g == "rpe" else 2.0))
     assert out.tolist() == [2.0, 1.0, 2.0, 2.0, 1.0]
 
 
@@ -555,9 +556,9 @@ def test_ball_trust_region_cuts_the_corner_of_the_box():
     """min t s.t. t >= -d_1 - d_2 with |d_i| <= 1: the box's step is its corner (1, 1), t = -2; with the ball
     ||d||_2 <= sqrt(2) / 2 cut in, the step goes along the gradient to (1/2, 1/2), t = -1 (by hand)."""
     obj = [(0.0, np.array([-1.0, -1.0]))]
-    d, t, s = synthesis._lp(obj, [], np.ones(2))
+    d, t, s = steps._lp(obj, [], np.ones(2))
     assert np.allclose([*d, t, s], [1.0, 1.0, -2.0, 0.0])
-    d, t, s = synthesis._lp(obj, [], np.ones(2), shape="ball")
+    d, t, s = steps._lp(obj, [], np.ones(2), shape="ball")
     assert np.allclose([*d, t, s], [0.5, 0.5, -1.0, 0.0], atol=1e-6)
 
 
@@ -566,11 +567,11 @@ def test_ball_trust_region_keeps_an_interior_optimum_and_the_elastic_rows():
     d <= -1 (hard) cannot hold in |d| <= 0.25 (None); soft, it takes the slack: min t + 10 s over d in [-0.25, 0.25]
     with s = d + 1 is at d = -0.25, s = 0.75 (by hand)."""
     obj = [(2.0, np.array([-1.0])), (0.0, np.array([1.0]))]
-    d, t, _ = synthesis._lp(obj, [], np.array([5.0]), shape="ball")
+    d, t, _ = steps._lp(obj, [], np.array([5.0]), shape="ball")
     assert np.allclose([d[0], t], [1.0, 1.0], atol=1e-6)
     objective = [(0.0, np.array([1.0]))]
-    assert synthesis._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5]), shape="ball") is None
-    d, t, s = synthesis._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0, shape="ball")
+    assert steps._lp(objective, [(0.0, np.array([1.0]), -1.0)], np.array([0.5]), shape="ball") is None
+    d, t, s = steps._lp(objective, [], np.array([0.5]), soft=[(0.0, np.array([1.0]), -1.0)], penalty=10.0, shape="ball")
     assert np.allclose([d[0], t, s], [-0.25, -0.25, 0.75], atol=1e-6)
 
 
@@ -580,7 +581,7 @@ def _socp_by_cvxpy(objective, constraints, radius, soft, penalty):
 
     n = radius.size
     d, t, s = cp.Variable(n), cp.Variable(), cp.Variable(nonneg=True)
-    cons = [cp.norm(cp.multiply(1.0 / radius, d), 2) <= synthesis._BALL * np.sqrt(n), cp.abs(d) <= radius]
+    cons = [cp.norm(cp.multiply(1.0 / radius, d), 2) <= steps._BALL * np.sqrt(n), cp.abs(d) <= radius]
     cons += [f + g @ d <= t for f, g in objective] + [c + h @ d <= b for c, h, b in constraints]
     cons += [c + h @ d <= b + s for c, h, b in soft] if soft else [s == 0]
     prob = cp.Problem(cp.Minimize(t + penalty * s), cons)
@@ -602,7 +603,7 @@ def test_ball_step_equals_the_cvxpy_formulation(seed):
     constraints += [(0.0, rng.normal(size=n), -1e4)] if case == 2 else []  # |h d| <= sum |h| r < 1e4: cannot hold
     soft = [(rng.normal(), rng.normal(size=n), -1e3 if case == 1 else rng.uniform(0.0, 1.0)) for _ in range(case % 2 + case // 3)]
     penalty = 10.0 if soft else 0.0
-    got = synthesis._lp(objective, constraints, radius, soft, penalty, shape="ball")
+    got = steps._lp(objective, constraints, radius, soft, penalty, shape="ball")
     ref = _socp_by_cvxpy(objective, constraints, radius, soft, penalty)
     assert (got is None) == (ref is None) == (case == 2)
     if case == 1:
@@ -611,7 +612,7 @@ def test_ball_step_equals_the_cvxpy_formulation(seed):
         assert got[1] + penalty * got[2] == pytest.approx(ref[1] + penalty * ref[2], rel=1e-6, abs=1e-7)
         assert np.allclose(got[0], ref[0], rtol=1e-4, atol=1e-5 * radius.max())
         # feasible to the interior-point method's tolerance (3e-7 relative seen, with a slack of 1e3 in the problem)
-        assert np.linalg.norm(got[0] / radius) <= synthesis._BALL * np.sqrt(n) * (1 + 1e-6)
+        assert np.linalg.norm(got[0] / radius) <= steps._BALL * np.sqrt(n) * (1 + 1e-6)
         assert np.all(np.abs(got[0]) <= radius * (1 + 1e-6))
 
 
@@ -619,11 +620,11 @@ def test_lp_minimises_the_largest_linearised_peak_in_the_trust_region():
     """min t s.t. f_j + g_j d <= t, |d| <= r, by hand: t = max(2 - d, d) is least at d = 1 (t = 1) inside r = 5, at the
     trust-region edge d = 0.5 (t = 1.5) for r = 0.5; t may be negative (the objective has no lower bound)."""
     obj = [(2.0, np.array([-1.0])), (0.0, np.array([1.0]))]
-    d, t, s = synthesis._lp(obj, [], np.array([5.0]))
+    d, t, s = steps._lp(obj, [], np.array([5.0]))
     assert np.allclose([d[0], t, s], [1.0, 1.0, 0.0])
-    d, t, _ = synthesis._lp(obj, [], np.array([0.5]))
+    d, t, _ = steps._lp(obj, [], np.array([0.5]))
     assert np.allclose([d[0], t], [0.5, 1.5])
-    d, t, _ = synthesis._lp([(-1.0, np.array([1.0]))], [], np.array([0.5]))
+    d, t, _ = steps._lp([(-1.0, np.array([1.0]))], [], np.array([0.5]))
     assert np.allclose([d[0], t], [-0.5, -1.5])
 
 
@@ -678,7 +679,7 @@ def test_stabilise_restores_a_warm_start_that_is_unstable_at_the_new_h(model, in
     prob = _problem(plants, tol=2e-3, min_damping_all=2e-4)
     start = prob.evaluate_all(scale * _grid_gain(0.021))
     assert start.abscissa() > 0.1 and not start.stable()
-    end = synthesis._stabilise(prob, start)
+    end = optimiser._stabilise(prob, start)
     assert end.stable() and end.abscissa() < -1e-7
     steps = [h["abscissa"] for h in prob.history if h["phase"] == "stabilise"]
     assert steps and steps[-1] == end.abscissa()
@@ -698,7 +699,7 @@ def test_stabilise_leaves_a_stable_start_untouched(model, inertia):
     prob = _problem(plants, tol=2e-3, min_damping_all=2e-4)
     start = prob.evaluate_all(-np.ones((4, 8)))
     assert start.stable()
-    assert synthesis._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
+    assert optimiser._stabilise(prob, start) is start and prob.iterations == 0 and not prob.history
 
 
 @pytest.mark.parametrize("shape, restoration", [("box", "minmax"), ("ball", "minmax"), ("ball", "least_change")])
@@ -720,29 +721,29 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
     scs = [Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)), Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0))]
     plants = [plant_at(model, s, inertia, ST) for s in scs]
     prob = _problem(plants, tol=1e-2, min_damping_all=2e-4)
-    start = synthesis._stabilise(prob, prob.evaluate_all(3.0 * _grid_gain(0.021)))
+    start = optimiser._stabilise(prob, prob.evaluate_all(3.0 * _grid_gain(0.021)))
     assert start.stable() and start.value("effort") > 2.0 * ST.gamma_u
     prob.opts = prob.opts.replace(trust_region=shape, restoration=restoration)
     n_stab = len(prob.history)
     steps_taken: list[bool] = []
-    least = synthesis._least_change
+    least = steps._least_change
 
     def recording(*args, **kwargs):
         out = least(*args, **kwargs)
         steps_taken.append(out is not None)
         return out
 
-    monkeypatch.setattr(synthesis, "_least_change", recording)
-    end, at_limit = synthesis._optimise(prob, start)
+    monkeypatch.setattr(optimiser, "_least_change", recording)
+    end, at_limit = optimiser._optimise(prob, start)
     assert any(steps_taken) if restoration == "least_change" else not steps_taken
-    steps = prob.history[n_stab:]
-    phases = [s["phase"] for s in steps]
+    accepted = prob.history[n_stab:]
+    phases = [s["phase"] for s in accepted]
     n_feas = phases.count("feasibility")
-    assert n_feas >= 1 and phases == ["feasibility"] * n_feas + ["optimise"] * (len(steps) - n_feas)
-    z_feas = [start.value("effort")] + [s["Z"] for s in steps[:n_feas]]
+    assert n_feas >= 1 and phases == ["feasibility"] * n_feas + ["optimise"] * (len(accepted) - n_feas)
+    z_feas = [start.value("effort")] + [s["Z"] for s in accepted[:n_feas]]
     assert np.all(np.diff(z_feas) < 0)
-    assert z_feas[-1] < ST.gamma_u * (1 - 0.01 if restoration == "least_change" else 1) and all(s["Z"] < ST.gamma_u for s in steps[n_feas:])
-    assert end.value("rpe") < steps[n_feas]["J"]  # the optimisation phase improved on its first feasible point
+    assert z_feas[-1] < ST.gamma_u * (1 - 0.01 if restoration == "least_change" else 1) and all(s["Z"] < ST.gamma_u for s in accepted[n_feas:])
+    assert end.value("rpe") < accepted[n_feas]["J"]  # the optimisation phase improved on its first feasible point
     assert not at_limit and prob.iterations < n_stab + 60
     assert end.stable() and end.value("effort") < ST.gamma_u
     exact = [synthesis.exact_norms(p, end.gain) for p in plants]
@@ -761,13 +762,13 @@ def test_feasibility_then_optimisation_phases_on_an_infeasible_start(model, iner
 def test_synthesize_passes_its_trust_region_to_every_step(model, inertia, monkeypatch, region):
     """Every LP of a synthesis (stabilisation and optimisation) gets the shape given to synthesize."""
     shapes: list[str] = []
-    lp = synthesis._lp
+    lp = steps._lp
 
     def recording(*args, **kwargs):
         shapes.append(kwargs["shape"] if "shape" in kwargs else args[5])
         return lp(*args, **kwargs)
 
-    monkeypatch.setattr(synthesis, "_lp", recording)
+    monkeypatch.setattr(optimiser, "_lp", recording)
     synthesis.synthesize(model, inertia, ST, SynthesisOptions(max_iter=3, max_rounds=1, search_thetas_deg=[0.0], trust_region=region),
                          gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], workers=1)
     assert len(shapes) >= 3 and set(shapes) == {region}
@@ -809,12 +810,12 @@ def test_least_change_step_is_the_scaled_projection_onto_the_violated_constraint
     r = rng.uniform(0.5, 2.0, 6)
     h = rng.normal(size=6)
     c, b = 1.0, 0.2
-    d = synthesis._least_change([(c, h, b), (0.0, rng.normal(size=6), 10.0)], r)
+    d = steps._least_change([(c, h, b), (0.0, rng.normal(size=6), 10.0)], r)
     expected = -(c - b) * r**2 * h / np.sum(r**2 * h**2)
     assert np.all(np.abs(expected) < r)  # the closed form is inside the box (else it would not be the answer)
     np.testing.assert_allclose(d, expected, rtol=1e-6, atol=1e-8)
-    assert synthesis._least_change([(c, 1e-3 * h, b)], r) is None  # the bound is out of the box's reach
-    np.testing.assert_allclose(synthesis._least_change([(0.0, h, 1.0)], r), 0.0, atol=1e-8)
+    assert steps._least_change([(c, 1e-3 * h, b)], r) is None  # the bound is out of the box's reach
+    np.testing.assert_allclose(steps._least_change([(0.0, h, 1.0)], r), 0.0, atol=1e-8)
 
 
 @pytest.mark.parametrize("ball", [False, True])
@@ -832,7 +833,7 @@ def test_least_change_step_against_a_general_solver_with_the_trust_region_active
     # the first row alone would move d_0 by about -1.45 (its scaled projection), past the box's 1: the box binds
     rows = [(1.0, np.r_[1.0, np.full(n - 1, 0.1)], -0.5)]
     rows += [(0.0, h, float(h @ x_f) + 0.2) for h in rng.normal(size=(2, n))]
-    d = synthesis._least_change(rows, r, ball)
+    d = steps._least_change(rows, r, ball)
     x = cp.Variable(n)
     cons = [np.array([h for _, h, _ in rows]) @ x <= np.array([bd - c for c, _, bd in rows]), cp.abs(x) <= r]
     if ball:
@@ -863,9 +864,9 @@ def test_least_change_restoration_moves_the_gain_less_than_the_min_max_step(mode
         prob = _problem(plants, tol=2e-3, min_damping_all=floor, restoration=mode)
         start = prob.evaluate_all(gain)
         assert not start.stable()
-        ends[mode] = synthesis._stabilise(prob, start)
+        ends[mode] = optimiser._stabilise(prob, start)
         assert ends[mode].stable()
-    size = {m: np.linalg.norm((e.gain - gain).ravel() / synthesis._Problem.radius(prob, gain)) for m, e in ends.items()}
+    size = {m: np.linalg.norm((e.gain - gain).ravel() / optimiser._Problem.radius(prob, gain)) for m, e in ends.items()}
     assert size["least_change"] < 0.5 * size["minmax"]
     if floor:  # (without a floor the abscissa is that of a slow pole that neither step moves: -6.7e-3 1/s for both)
         assert ends["minmax"].abscissa() < ends["least_change"].abscissa() < -1e-7
@@ -874,13 +875,13 @@ def test_least_change_restoration_moves_the_gain_less_than_the_min_max_step(mode
 def test_synthesize_passes_its_restoration_to_the_problem(model, inertia, monkeypatch):
     """``restoration="least_change"`` reaches the stabilisation: its QP is called (and never with the default)."""
     calls: list[int] = []
-    least = synthesis._least_change
+    least = steps._least_change
 
     def recording(*args, **kwargs):
         calls.append(1)
         return least(*args, **kwargs)
 
-    monkeypatch.setattr(synthesis, "_least_change", recording)
+    monkeypatch.setattr(optimiser, "_least_change", recording)
     kw = dict(gain0=3.0 * _grid_gain(0.021), scenarios=[Scenario()], workers=1)
     opts = SynthesisOptions(max_iter=3, max_rounds=1, search_thetas_deg=[0.0])
     synthesis.synthesize(model, inertia, ST, opts, **kw)
@@ -890,10 +891,10 @@ def test_synthesize_passes_its_restoration_to_the_problem(model, inertia, monkey
 
 
 # ---- the stopping test
-def _problem(plants, checks=(), tol: float = 2e-3, min_damping_all: float = 2e-4, **options) -> "synthesis._Problem":
+def _problem(plants, checks=(), tol: float = 2e-3, min_damping_all: float = 2e-4, **options) -> "optimiser._Problem":
     """The optimiser's problem on ``plants`` (threads: none), stability-only ``checks`` with no damping floor above 0."""
     opts = SynthesisOptions(tol=tol, min_damping_all=min_damping_all, **options)
-    return synthesis._Problem(list(plants), list(checks), map, ST.gamma_u, opts, 0.0, 0.0)
+    return optimiser._Problem(list(plants), list(checks), map, ST.gamma_u, opts, 0.0, 0.0)
 
 
 def _stall(js: list[float], k: int, tol: float) -> list[bool]:
@@ -907,7 +908,7 @@ def _stall_problem(plants):
 
 def _optimised(prob, state) -> list[float]:
     """The J values of the optimisation-phase steps ``_optimise`` accepts from ``state`` (not at its iteration limit)."""
-    _, at_limit = synthesis._optimise(prob, state)
+    _, at_limit = optimiser._optimise(prob, state)
     assert not at_limit
     return [h["J"] for h in prob.history if h["phase"] == "optimise"]
 
@@ -919,9 +920,9 @@ def stall_round(model, inertia):
     plants = [plant_at(model, s, inertia, ST) for s in (Scenario(-1.0, 1.0, -0.5, np.deg2rad(130.0)),
                                                          Scenario(1.0, -1.0, 1.0, np.deg2rad(40.0)))]
     prob = _stall_problem(plants)
-    start = synthesis._stabilise(prob, prob.evaluate_all(_grid_gain(0.021)))
+    start = optimiser._stabilise(prob, prob.evaluate_all(_grid_gain(0.021)))
     prob.history.clear()
-    end, _ = synthesis._optimise(prob, start)
+    end, _ = optimiser._optimise(prob, start)
     return plants, start, prob, end
 
 
@@ -930,8 +931,8 @@ def test_optimiser_stops_at_the_first_stall(stall_round):
     less than ``tol`` over the last :data:`_STALL_STEPS` (5), not before, and not at the iteration limit."""
     _, _, prob, end = stall_round
     js = [h["J"] for h in prob.history if h["phase"] == "optimise"]
-    stalled = _stall(js, synthesis._STALL_STEPS, 1e-2)
-    assert synthesis._STALL_STEPS == 5 and stalled[-1] and not any(stalled[:-1]) and len(js) >= 7
+    stalled = _stall(js, options._STALL_STEPS, 1e-2)
+    assert options._STALL_STEPS == 5 and stalled[-1] and not any(stalled[:-1]) and len(js) >= 7
     assert [h["phase"] for h in prob.history][0] == "feasibility"
     assert end.value("rpe") == js[-1]
 
@@ -946,7 +947,7 @@ def test_panel_angle_grids_in_radians_are_refused(thetas):
 
 
 def test_plant_at_refuses_unknown_kept_names(monkeypatch):
-    monkeypatch.setattr(synthesis, "generalized_plant", lambda *args, **kwargs: "plant")
+    monkeypatch.setattr(scenarios, "generalized_plant", lambda *args, **kwargs: "plant")
     params = spacecraft.uncertain_parameters()
     model = sum((LFT.param(p) for p in params.values()), LFT.constant([[0.0]]))
     assert synthesis.plant_at(model, Scenario(), np.eye(3), LoopSettings(), keep=robustness.KEEP) == "plant"
