@@ -2,7 +2,7 @@
 
 Each particle is a full robust multi-model synthesis (notebook 06); the particles of an iteration run on a local Dask
 cluster (one worker per core, one BLAS thread each). Every synthesis takes notebook 07's options
-(``codesign.synthesis_options(True, "ball", "least_change")``: the co-design's tolerance, the fast path, the ball trust
+(``objective.synthesis_options(True, "ball", "least_change")``: the co-design's tolerance, the fast path, the ball trust
 region, least-change restoration) and the swarm MATLAB particleswarm's documented rules.
 
 By default the run is notebook 07's headline co-design: the preset ``paper_calibrated``, every design truss-tolerant
@@ -36,7 +36,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from trusscodesign.study import codesign
+from trusscodesign.study import cluster, codesign, objective
 from trusscodesign.model import spacecraft  # noqa: E402
 from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
 
@@ -67,9 +67,9 @@ def main() -> None:
         n_workers = os.cpu_count() or 1
         particles, iterations = len(state.x), state.iteration
     else:
-        client = codesign.local_client(args.workers or None)
+        client = cluster.local_client(args.workers or None)
         n_workers = len(client.scheduler_info()["workers"])
-        options = codesign.synthesis_options(True, "ball", "least_change")  # notebook 07's defaults
+        options = objective.synthesis_options(True, "ball", "least_change")  # notebook 07's defaults
         state = codesign.run_codesign(args.particles, args.iterations or 20, (0.015, 0.03), args.seed, client, checkpoint,
                                       LoopSettings.from_parameters(params), params, synthesis_options=options,
                                       stop_after=args.stop_after, truss_tolerance=args.truss_tolerance, start=args.start,

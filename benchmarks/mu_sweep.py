@@ -25,7 +25,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from _machine import machine_info  # noqa: E402
-from trusscodesign.study import codesign, design, robustness
+from trusscodesign.study import cluster, design, robustness
 from trusscodesign.model import spacecraft  # noqa: E402
 from trusscodesign.control.closedloop import LoopSettings  # noqa: E402
 
@@ -54,12 +54,12 @@ def main() -> None:
     print(f"design {source} (h = {100 * h:.3f} cm): {args.n_tau} angles in this process: {t_seq:.1f} s", flush=True)
 
     t0 = time.perf_counter()
-    client = codesign.local_client(args.workers)
+    client = cluster.local_client(args.workers)
     t_start = time.perf_counter() - t0
     try:
         par = robustness.sweep(models.g_r_low, thetas, gain, models.inertia, settings, client=client, **opts)
     finally:
-        codesign.close_client(client)
+        cluster.close_client(client)
     t_par = time.perf_counter() - t0
     a, b = _flat(seq), _flat(par)
     diff = {key: float(np.max(np.abs(b[key] / a[key] - 1))) for key in a}

@@ -60,7 +60,7 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
     """Warm starts from the co-design grid's design at ``h0`` [m] (its gain and final scenario set, the co-design's
     tolerance) to ``h0 + step``: first how the gain itself fares at the new h (largest real part and smallest
     damping ratio of the closed-loop poles over the scenario set), then the synthesis time."""
-    from trusscodesign.study import codesign
+    from trusscodesign.study import objective
     from trusscodesign.control import synthesis
 
     rec, scen = grid_design(h0)
@@ -69,7 +69,7 @@ def _warm_from_grid(h0: float, steps: tuple[float, ...], settings: LoopSettings)
         m = design.models_at(h0 + step)
         poles = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), rec["gain"]).poles() for sc in scen]
         zeta = min(float(np.min(-lam.real / np.abs(lam))) for lam in poles)
-        r = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS, gain0=rec["gain"], scenarios=scen)
+        r = design.robust_design(m, settings, objective.CODESIGN_OPTIONS, gain0=rec["gain"], scenarios=scen)
         optimiser_steps = [e for e in r.history if e.get("phase") != "stabilise"]
         out[f"+{1e3 * step:g}mm"] = dict(start_max_real=max(float(lam.real.max()) for lam in poles), start_min_damping=zeta,
                                          time_s=r.time_s, iterations=r.iterations, J_c=r.j_c, Z_c=r.z_c, success=r.success,
@@ -93,7 +93,7 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
     """Warm start at ``h`` [m] from a design at ``h0`` synthesised to serve its truss moved by ``shifts`` (relative), by
     the dense path or (``fast_source``) the fast one: how the gain fares at the new h before any iteration (default
     scenario set), then the synthesis (co-design tolerance)."""
-    from trusscodesign.study import codesign
+    from trusscodesign.study import objective
     from trusscodesign.control import synthesis
 
     m0 = design.models_at(h0)
@@ -102,12 +102,12 @@ def _warm_from_tolerant(settings: LoopSettings, h0: float = 0.021, h: float = 0.
                                variants=design.truss_variants(m0, shifts))
     m = design.models_at(h)
     peaks = [synthesis.loop_peaks(synthesis.plant_at(m.g_r, sc, m.inertia, settings), src.gain) for sc in synthesis.default_scenarios()]
-    r = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS, gain0=src.gain)
-    fast = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS.replace(fast=True), gain0=src.gain)
+    r = design.robust_design(m, settings, objective.CODESIGN_OPTIONS, gain0=src.gain)
+    fast = design.robust_design(m, settings, objective.CODESIGN_OPTIONS.replace(fast=True), gain0=src.gain)
     print(f"warm start from the truss-tolerant design: dense {r.time_s:.1f} s ({r.iterations} it, J_c {r.j_c:.5f}), "
           f"fast {fast.time_s:.1f} s ({fast.iterations} it, J_c {fast.j_c:.5f}, {fast.fallbacks} fallbacks)")
     # the warm start a co-design makes: the source's gain and its final scenario set (notebook 07's Step 3)
-    with_set = {path: _row(design.robust_design(m, settings, codesign.CODESIGN_OPTIONS.replace(fast=path == "fast"),
+    with_set = {path: _row(design.robust_design(m, settings, objective.CODESIGN_OPTIONS.replace(fast=path == "fast"),
                                                 gain0=src.gain, scenarios=src.scenarios)) for path in ("dense", "fast")}
     print("with the source's scenario set: " + ", ".join(f"{path} {row['time_s']:.1f} s ({row['iterations']} it, "
                                                            f"{row['searches']} searches, J_c {row['J_c']:.5f})"
@@ -124,14 +124,14 @@ def _fast_against_dense(settings: LoopSettings) -> dict:
     """The same syntheses by the dense path and by the fast one (``fast=True``, :mod:`trusscodesign.control.modalloop`): cold at
     2.139 cm, warm-started there from the gain of a design at 2.0 cm, and from the co-design grid's 2.1 cm design
     (gain and scenario set, co-design tolerance)."""
-    from trusscodesign.study import codesign
+    from trusscodesign.study import objective
 
     m = design.models_at(0.02139)
     near = design.robust_design(design.models_at(0.020), settings, SynthesisOptions(fast=True))
     rec, scen = grid_design(0.021)
     cases = {"cold_2.139cm": (SynthesisOptions(), {}),
              "warm_from_h_2.0cm": (SynthesisOptions(), dict(gain0=near.gain)),
-             "warm_from_grid_2.1cm_codesign_tol": (codesign.CODESIGN_OPTIONS, dict(gain0=rec["gain"], scenarios=scen))}
+             "warm_from_grid_2.1cm_codesign_tol": (objective.CODESIGN_OPTIONS, dict(gain0=rec["gain"], scenarios=scen))}
     out = {}
     for name, (opts, kw) in cases.items():
         out[name] = {path: _row(design.robust_design(m, settings, opts.replace(fast=path == "fast"), **kw))
@@ -172,9 +172,9 @@ def main() -> None:
     warm = design.robust_design(m, settings, gain0=near.gain)
     out["warm_from_h_2.0cm"] = dict(time_s=warm.time_s, iterations=warm.iterations, evaluations=warm.evaluations, J_c=warm.j_c,
                                     Z_c=warm.z_c, success=warm.success, scenarios=len(warm.scenarios))
-    from trusscodesign.study import codesign
+    from trusscodesign.study import objective
 
-    co = design.robust_design(m, settings, codesign.CODESIGN_OPTIONS, gain0=near.gain, scenarios=near.scenarios)
+    co = design.robust_design(m, settings, objective.CODESIGN_OPTIONS, gain0=near.gain, scenarios=near.scenarios)
     out["warm_from_h_2.0cm_with_scenarios_codesign_tol"] = dict(time_s=co.time_s, iterations=co.iterations,
                                                                 evaluations=co.evaluations, J_c=co.j_c, Z_c=co.z_c,
                                                                 success=co.success, scenarios=len(co.scenarios))
@@ -183,7 +183,7 @@ def main() -> None:
     out["warm_from_truss_tolerant_2.1cm_fast_source"] = _warm_from_tolerant(settings, fast_source=True)
     out["fast_against_dense"] = _fast_against_dense(settings)
     m25 = design.models_at(0.025)
-    for name, opts in (("cold_2.5cm_default_tol", SynthesisOptions()), ("cold_2.5cm_codesign_tol", codesign.CODESIGN_OPTIONS)):
+    for name, opts in (("cold_2.5cm_default_tol", SynthesisOptions()), ("cold_2.5cm_codesign_tol", objective.CODESIGN_OPTIONS)):
         r = design.robust_design(m25, settings, opts)
         out[name] = dict(time_s=r.time_s, iterations=r.iterations, evaluations=r.evaluations, J_c=r.j_c, Z_c=r.z_c,
                          success=r.success, scenarios=len(r.scenarios))

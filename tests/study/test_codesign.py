@@ -8,7 +8,7 @@ import pytest
 from _locks import held_elsewhere, hold_lock
 from trusscodesign.control import synthesis
 from trusscodesign.control.closedloop import LoopSettings
-from trusscodesign.study import codesign, pso
+from trusscodesign.study import cluster, codesign, objective, pso
 
 
 @pytest.mark.parametrize("options, error", [({"tol": 1e-2}, TypeError), ("fast", TypeError)])
@@ -77,7 +77,7 @@ def test_same_result_with_one_and_two_dask_workers():
     pytest.importorskip("dask.distributed")
     results = []
     for n_workers in (1, 2):
-        client = codesign.local_client(n_workers)
+        client = cluster.local_client(n_workers)
         try:
             def evaluate(x, state, client=client):
                 return client.gather(client.map(cheap, [float(v[0]) for v in x], pure=False))
@@ -109,17 +109,17 @@ def test_codesign_checks_its_design_range_before_starting(tmp_path):
 
 
 def test_objective_and_failures():
-    m0 = codesign.M0_PAPER
-    assert codesign.objective_value(93.55, 0.9011, m0) == pytest.approx(93.55 / m0 + 0.0011)
-    assert codesign.objective_value(50.0, 2.5, m0) == pytest.approx(50.0 / m0 + 10)
-    assert codesign.objective_value(50.0, np.inf, m0) == pytest.approx(50.0 / m0 + 10)
-    r = codesign.evaluate_particle(0.02, fail=True)
+    m0 = objective.M0_PAPER
+    assert objective.objective_value(93.55, 0.9011, m0) == pytest.approx(93.55 / m0 + 0.0011)
+    assert objective.objective_value(50.0, 2.5, m0) == pytest.approx(50.0 / m0 + 10)
+    assert objective.objective_value(50.0, np.inf, m0) == pytest.approx(50.0 / m0 + 10)
+    r = objective.evaluate_particle(0.02, fail=True)
     assert r["status"].startswith("failed: RuntimeError") and r["f"] == pytest.approx(r["mass"] / m0 + 10)
-    assert codesign.objective_value(50.0, np.nan, m0) == pytest.approx(50.0 / m0 + 10)
+    assert objective.objective_value(50.0, np.nan, m0) == pytest.approx(50.0 / m0 + 10)
     for mass, j_c, m in ((50.0, 0.1, 0.0), (np.nan, 0.1, m0), (-5.0, 0.1, m0), (50.0, -0.1, m0)):
         with pytest.raises(ValueError, match="mass|m0|j_c"):
-            codesign.objective_value(mass, j_c, m)
-    bad = codesign.evaluate_particle(-0.02)  # never raises: a failed particle with an infinite objective
+            objective.objective_value(mass, j_c, m)
+    bad = objective.evaluate_particle(-0.02)  # never raises: a failed particle with an infinite objective
     assert bad["status"].startswith("failed: ValueError") and bad["f"] == np.inf
     # a PSO run in which one particle fails keeps going and records it
     def evaluate(x, state):
@@ -160,7 +160,7 @@ def test_codesign_refuses_a_checkpoint_of_another_synthesis(tmp_path, monkeypatc
     codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)  # same version: resumes
     with pytest.raises(ValueError, match="synthesis options"):  # e.g. a dense run resumed by the fast path
         codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None,
-                              synthesis_options=codesign.synthesis_options(fast=True))
+                              synthesis_options=objective.synthesis_options(fast=True))
     monkeypatch.setattr(synthesis, "ALGORITHM", "another version")
     with pytest.raises(ValueError, match="delete it"):
         codesign.run_codesign(2, 2, seed=0, checkpoint=ck, progress=False, log=lambda s: None)
@@ -186,7 +186,7 @@ def test_codesign_refuses_a_checkpoint_of_another_objective_and_normalises_optio
     ck2 = tmp_path / "default.json"
     codesign.run_codesign(2, 2, seed=0, checkpoint=ck2, progress=False, log=lambda s: None, stop_after=1)
     codesign.run_codesign(2, 2, seed=0, checkpoint=ck2, progress=False, log=lambda s: None,
-                          synthesis_options=codesign.CODESIGN_OPTIONS)  # None means the default options
+                          synthesis_options=objective.CODESIGN_OPTIONS)  # None means the default options
 
 
 def test_synthesis_options_keep_the_stored_runs_keys():
@@ -194,11 +194,11 @@ def test_synthesis_options_keep_the_stored_runs_keys():
     and the benchmarks were written with; the stored checkpoints and caches of notebook 07 hold notebook 07's."""
     from trusscodesign.infra import paths
 
-    assert codesign._options_key(None) == codesign.synthesis_options().key() == {"tol": 1e-2}
-    assert codesign.synthesis_options(fast=True).key() == {"tol": 1e-2, "fast": True}
-    assert codesign.synthesis_options(True, "ball").key() == {"tol": 1e-2, "fast": True, "trust_region": "ball"}
-    assert codesign.synthesis_options(trust_region="ball").key() == {"tol": 1e-2, "trust_region": "ball"}
-    notebook_07 = codesign.synthesis_options(True, "ball", "least_change")
+    assert codesign._options_key(None) == objective.synthesis_options().key() == {"tol": 1e-2}
+    assert objective.synthesis_options(fast=True).key() == {"tol": 1e-2, "fast": True}
+    assert objective.synthesis_options(True, "ball").key() == {"tol": 1e-2, "fast": True, "trust_region": "ball"}
+    assert objective.synthesis_options(trust_region="ball").key() == {"tol": 1e-2, "trust_region": "ball"}
+    notebook_07 = objective.synthesis_options(True, "ball", "least_change")
     assert notebook_07.key() == {"tol": 1e-2, "fast": True, "trust_region": "ball", "restoration": "least_change"}
     stored = paths.ROOT / "data" / "results"
     assert pso.load_state(stored / "07_pso_checkpoint_paper_calibrated.json").extra["options"] == notebook_07.key()
@@ -206,11 +206,11 @@ def test_synthesis_options_keep_the_stored_runs_keys():
     evaluations = json.loads((stored / "07_pso_checkpoint_paper_calibrated.evaluations.json").read_text())["key"]
     assert evaluations["options"] == codesign.evaluation_key(None, None, synthesis_options=notebook_07)["options"]
     with pytest.raises(ValueError, match="trust_region must be 'box' or 'ball'"):  # the learnt metric, removed
-        codesign.synthesis_options(True, "bfgs", "least_change")
+        objective.synthesis_options(True, "bfgs", "least_change")
     with pytest.raises(ValueError, match="restoration"):
-        codesign.synthesis_options(restoration="least-change")
+        objective.synthesis_options(restoration="least-change")
     with pytest.raises(ValueError, match="trust_region"):
-        codesign.synthesis_options(trust_region="ellipse")
+        objective.synthesis_options(trust_region="ellipse")
 
 
 def test_default_settings_given_or_not_are_the_same_objective(tmp_path, monkeypatch):
@@ -355,7 +355,7 @@ def test_evaluate_swarm_through_a_separately_started_scheduler(tmp_path):
         address = json.loads(sched_file.read_text())["address"]
         procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
                                        "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        client = codesign.local_client(scheduler=address)
+        client = cluster.local_client(scheduler=address)
         try:
             client.wait_for_workers(1, timeout=60)
             hs = [0.015, 0.02, 0.015, 0.03]
@@ -380,7 +380,7 @@ def test_local_workers_keep_glibc_dynamic_mmap_threshold():
     import os
 
     pytest.importorskip("dask.distributed")
-    client = codesign.local_client(1)
+    client = cluster.local_client(1)
     try:
         env = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_"))
         blas = client.run(lambda: os.environ.get("OPENBLAS_NUM_THREADS"))
@@ -393,15 +393,15 @@ def test_local_workers_keep_glibc_dynamic_mmap_threshold():
 
 def test_m0_is_the_papers_truss_mass_at_3_cm():
     """Paper: "the initial design having m0 = 183.11 kg" (and Table: 183.11)."""
-    assert codesign.M0_PAPER == 183.11
+    assert objective.M0_PAPER == 183.11
 
 
 def test_objective_at_the_jc_limit_is_not_penalised():
     """Paper: f^n = m/m0 + |0.9 - J_c| if J_c <= 2 (the limit included), else m/m0 + 10."""
-    m0 = codesign.M0_PAPER
-    assert codesign.objective_value(50.0, 2.0, m0) == pytest.approx(50.0 / m0 + 1.1)
-    assert codesign.objective_value(50.0, np.nextafter(2.0, 3.0), m0) == pytest.approx(50.0 / m0 + 10)
-    assert codesign.objective_value(50.0, 0.0, m0) == pytest.approx(50.0 / m0 + 0.9)
+    m0 = objective.M0_PAPER
+    assert objective.objective_value(50.0, 2.0, m0) == pytest.approx(50.0 / m0 + 1.1)
+    assert objective.objective_value(50.0, np.nextafter(2.0, 3.0), m0) == pytest.approx(50.0 / m0 + 10)
+    assert objective.objective_value(50.0, 0.0, m0) == pytest.approx(50.0 / m0 + 0.9)
 
 
 def test_particle_with_jc_at_the_limit_is_ok_and_above_is_penalised(monkeypatch):
@@ -411,15 +411,15 @@ def test_particle_with_jc_at_the_limit_is_ok_and_above_is_penalised(monkeypatch)
 
     jc = {"v": 2.0}
     monkeypatch.setattr(design, "models_at", lambda h, params=None: design.DesignModels(h, None, None, None, np.eye(3), 0.0, 0.0))
-    monkeypatch.setattr(codesign, "truss_mass_from_dc", lambda models, p=None: spacecraft.truss_mass(models.h))
-    monkeypatch.setattr(design, "robust_design", lambda models, settings, **kw: synthesis.SynthesisResult(
+    monkeypatch.setattr(objective, "truss_mass_from_dc", lambda models, p=None: spacecraft.truss_mass(models.h))
+    monkeypatch.setattr(design, "robust_design", lambda models, settings, options, **kw: synthesis.SynthesisResult(
         -np.ones((4, 8)), jc["v"], 0.5, True, "converged", [], None, 1, 0.0, 1))
-    r = codesign.evaluate_particle(0.02)
+    r = objective.evaluate_particle(0.02)
     m = spacecraft.truss_mass(0.02)
-    assert r["status"] == "ok" and r["f"] == pytest.approx(m / codesign.M0_PAPER + 1.1)
+    assert r["status"] == "ok" and r["f"] == pytest.approx(m / objective.M0_PAPER + 1.1)
     jc["v"] = 2.5
-    r = codesign.evaluate_particle(0.02)
-    assert r["status"] == "penalty: J_c > 2" and r["f"] == pytest.approx(m / codesign.M0_PAPER + 10)
+    r = objective.evaluate_particle(0.02)
+    assert r["status"] == "penalty: J_c > 2" and r["f"] == pytest.approx(m / objective.M0_PAPER + 10)
 
 
 @pytest.mark.parametrize("error", [np.linalg.LinAlgError("singular matrix"), ZeroDivisionError("x"), RuntimeError("no convergence")])
@@ -431,9 +431,9 @@ def test_a_numerical_failure_is_a_penalised_particle(monkeypatch, error):
         raise error
 
     monkeypatch.setattr(design, "models_at", fails)
-    r = codesign.evaluate_particle(0.02)
+    r = objective.evaluate_particle(0.02)
     assert r["status"].startswith(f"failed: {type(error).__name__}") and "traceback" in r
-    assert r["f"] == pytest.approx(spacecraft.truss_mass(0.02) / codesign.M0_PAPER + 10)
+    assert r["f"] == pytest.approx(spacecraft.truss_mass(0.02) / objective.M0_PAPER + 10)
 
 
 @pytest.mark.parametrize("error", [TypeError("bad call"), NameError("x"), AttributeError("x"), KeyError("x"), NotImplementedError("x")])
@@ -446,17 +446,17 @@ def test_a_programming_error_stops_the_evaluation_with_its_traceback(monkeypatch
 
     monkeypatch.setattr(design, "models_at", broken)
     with pytest.raises(type(error)):
-        codesign.evaluate_particle(0.02)
+        objective.evaluate_particle(0.02)
 
 
 def test_a_lost_evaluation_is_penalised_as_documented_and_a_bad_h_is_an_error():
     from trusscodesign.model import spacecraft
 
-    r = codesign.lost_evaluation(0.02, "killed its worker")
+    r = objective.lost_evaluation(0.02, "killed its worker")
     assert r["status"] == "failed: killed its worker"
-    assert r["f"] == pytest.approx(spacecraft.truss_mass(0.02) / codesign.M0_PAPER + 10)  # the documented penalty, finite
+    assert r["f"] == pytest.approx(spacecraft.truss_mass(0.02) / objective.M0_PAPER + 10)  # the documented penalty, finite
     with pytest.raises(ValueError, match="h"):
-        codesign.lost_evaluation(-0.02, "killed its worker")
+        objective.lost_evaluation(-0.02, "killed its worker")
 
 
 def test_warm_start_is_the_gain_of_the_iterations_best_particle(monkeypatch):
@@ -501,7 +501,7 @@ def test_truss_mass_from_the_inverted_dc_gain_with_an_offset_cog():
     oo = [spacecraft.OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
     d[np.ix_(oo, ii)] = np.linalg.inv(rigid) + (c @ np.linalg.solve(a, b))[np.ix_(oo, ii)]
     g_r = SimpleNamespace(params={}, evaluate=lambda values: (a, b, c, d))
-    got = codesign.truss_mass_from_dc(SimpleNamespace(h=h, g_r=g_r))
+    got = objective.truss_mass_from_dc(SimpleNamespace(h=h, g_r=g_r))
     assert got == pytest.approx(masses["truss"], rel=1e-9)
 
 
@@ -605,17 +605,17 @@ def test_a_particle_that_kills_its_worker_is_a_failed_particle_not_the_end_of_th
     part, key = tmp_path / "07_pso_checkpoint.partial.json", {"iteration": 1}
     try:
         with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
-            client = codesign.local_client(1)
+            client = cluster.local_client(1)
         try:
             recs = codesign.evaluate_swarm([0.02, 0.0222], None, client, progress=False, partial=part, partial_key=key)
         finally:
-            codesign.close_client(client)
+            cluster.close_client(client)
     finally:
         cloudpickle.unregister_pickle_by_value(sys.modules[__name__])
     assert recs[0]["status"] == "ok"
     lost = recs[1]
     assert lost["h"] == 0.0222 and lost["status"].startswith("failed: the evaluation ended its worker every time (KilledWorker")
-    assert lost["f"] == pytest.approx(spacecraft.truss_mass(0.0222) / codesign.M0_PAPER + 10) and lost["gain"] is None
+    assert lost["f"] == pytest.approx(spacecraft.truss_mass(0.0222) / objective.M0_PAPER + 10) and lost["gain"] is None
 
     def never(*args, **kwargs):
         raise AssertionError("a saved evaluation was run again")
@@ -627,23 +627,23 @@ def test_a_particle_that_kills_its_worker_is_a_failed_particle_not_the_end_of_th
 
 def test_a_cluster_whose_workers_all_died_stops_the_run_instead_of_hanging(monkeypatch):
     """A nanny that could not restart its worker on an overloaded machine left a co-design (and the test above) waiting
-    for ever: the wait now gives up once the cluster has had no worker for codesign.WORKERLESS_S, saying what to do."""
+    for ever: the wait now gives up once the cluster has had no worker for cluster.WORKERLESS_S, saying what to do."""
     pytest.importorskip("dask.distributed")
     from dask.distributed import Client, LocalCluster
 
-    monkeypatch.setattr(codesign, "WORKERLESS_S", 1.0)
-    monkeypatch.setattr(codesign, "_POLL_S", 0.2)
-    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
+    monkeypatch.setattr(cluster, "WORKERLESS_S", 1.0)
+    monkeypatch.setattr(cluster, "_POLL_S", 0.2)
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as empty, Client(empty) as client:
         with pytest.raises(RuntimeError, match=r"the Dask cluster has had no worker for 1 s .* with 1 evaluations waiting: restart"):
             codesign.evaluate_swarm([0.02], None, client, progress=False)
 
 
 def test_tolerance_shifts_are_the_ends_and_the_midpoints_of_the_tolerance():
-    assert codesign.tolerance_shifts(0.02) == (-0.02, -0.01, 0.01, 0.02)
-    assert codesign.tolerance_shifts(0) == ()
+    assert objective.tolerance_shifts(0.02) == (-0.02, -0.01, 0.01, 0.02)
+    assert objective.tolerance_shifts(0) == ()
     for bad in (-0.01, 2.0, 0.2, True, "0.02", float("nan")):
         with pytest.raises(ValueError, match="truss_tolerance must be a relative section-side error"):
-            codesign.tolerance_shifts(bad)
+            objective.tolerance_shifts(bad)
 
 
 def test_a_truss_tolerant_particle_is_synthesised_on_the_shifted_trusses(monkeypatch):
@@ -657,7 +657,7 @@ def test_a_truss_tolerant_particle_is_synthesised_on_the_shifted_trusses(monkeyp
     models = SimpleNamespace(h=0.02, assembly_time_s=0.1, build_time_s=0.3)
     monkeypatch.setattr(design, "models_at", lambda h, params=None: models)
     monkeypatch.setattr(design, "truss_variants", lambda m, shifts, p=None: [("variant", s) for s in shifts])
-    monkeypatch.setattr(codesign, "truss_mass_from_dc", lambda m, p=None: codesign.spacecraft.truss_mass(0.02, p))
+    monkeypatch.setattr(objective, "truss_mass_from_dc", lambda m, p=None: codesign.spacecraft.truss_mass(0.02, p))
 
     def robust_design(m, settings, options, gain0=None, variants=(), scenarios=None, workers=None):
         seen["variants"] = list(variants)
@@ -665,10 +665,10 @@ def test_a_truss_tolerant_particle_is_synthesised_on_the_shifted_trusses(monkeyp
                                restarts=0, worst=None, time_s=1.0)
 
     monkeypatch.setattr(design, "robust_design", robust_design)
-    rec = codesign.evaluate_particle(0.02, truss_tolerance=0.02)
+    rec = objective.evaluate_particle(0.02, truss_tolerance=0.02)
     assert rec["status"] == "ok" and seen["variants"] == [("variant", s) for s in (-0.02, -0.01, 0.01, 0.02)]
     assert rec["t_model"] >= rec["t_variants"] >= 0.0
-    codesign.evaluate_particle(0.02)
+    objective.evaluate_particle(0.02)
     assert seen["variants"] == []
     with pytest.raises(ValueError, match="truss_tolerance"):  # refused before any particle
         codesign.evaluate_swarm([0.02], None, truss_tolerance=0.5, progress=False)

@@ -6,7 +6,7 @@ from _locks import held_elsewhere
 from trusscodesign.control import synthesis
 from trusscodesign.control.closedloop import LoopSettings
 from trusscodesign.control.synthesis import Scenario
-from trusscodesign.study import design, robustness
+from trusscodesign.study import cluster, design, robustness
 
 ST = LoopSettings.from_parameters()
 
@@ -37,17 +37,16 @@ def test_physical_deltas(models):
 def test_sweep_same_bounds_in_order_on_dask_workers(models):
     """The angles run on two Dask workers come back in the order asked, with the bounds computed in this process:
     both bounds to the last bit (every SDP is solved from scratch, whatever the process solved before)."""
-    from trusscodesign.study import codesign
 
     thetas = np.deg2rad([100.0, 20.0])
     kw = dict(n_log=60, seed=3)
     here = robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST, **kw)
     assert [out["rpe"].theta_deg for out in here] == pytest.approx([100.0, 20.0])
-    client = codesign.local_client(2)
+    client = cluster.local_client(2)
     try:
         there = robustness.sweep(models.g_r_low, thetas, -np.ones((4, 8)), models.inertia, ST, client=client, **kw)
     finally:
-        codesign.close_client(client)
+        cluster.close_client(client)
     for a, b in zip(here, there):
         for group in ("rpe", "effort"):
             assert a[group].theta_deg == b[group].theta_deg

@@ -137,7 +137,7 @@ def objective_grid(records: Sequence[Mapping], best: Mapping | None = None, titl
     title : str
         Prefix of the panel titles.
     jc_limit : float
-        ``J_c`` above which the objective is penalised (:data:`trusscodesign.study.codesign.JC_LIMIT`).
+        ``J_c`` above which the objective is penalised (:data:`trusscodesign.study.objective.JC_LIMIT`).
     history : sequence of mapping, optional
         The swarm's particles (same keys): their valid evaluations drawn as small dots on the f, J_c and Z_c panels.
     target : float

@@ -1,15 +1,10 @@
-"""Structure/control co-design over the beam section side h: the nested objective, evaluated in parallel.
+"""Structure/control co-design over the beam section side h: the particle swarm on the nested objective, in parallel.
 
-Paper: "Co-design optimization architecture" (Steps 1-4) and "Co-design optimization results". For a particle
-h: build the reduced uncertain model (Step 1), close the loop with the ACS of that h (Step 2), tune ``K_PMA``
-by the robust synthesis warm-started from the previous iteration's best particle (Step 3), and evaluate
-
-``f^n(h) = m(h)/m0 + |0.9 - J_c(h, K(h))|`` if ``J_c <= 2``, else ``m(h)/m0 + 10``   (Step 4),
-
-with ``m(h)`` the T-truss mass from the DC gain ``W_P1 -> a_P1`` (the whole spacecraft's rigid mass minus the
-other bodies, checked against ``rho h^2 * total beam length``). A failed synthesis gets the penalty and its reason
-is logged; it never stops the run. Particles of an iteration are evaluated in parallel by Dask
-(:func:`evaluate_swarm`): a local cluster by default, or any scheduler (e.g. dask-jobqueue on Slurm).
+Paper: "Co-design optimization architecture" and "Co-design optimization results". Each particle is one evaluation of
+the objective ``f^n(h)`` (:func:`trusscodesign.study.objective.evaluate_particle`), its synthesis warm-started from the
+previous iteration's best particle (the paper's Step 3) or cold. Particles of an iteration are evaluated in parallel
+by Dask (:func:`evaluate_swarm`): a local cluster by default, or any scheduler (e.g. dask-jobqueue on Slurm); every
+finished evaluation is saved at once, and a grid of the objective (:func:`evaluate_grid`) shares them.
 """
 
 from __future__ import annotations
@@ -17,9 +12,8 @@ from __future__ import annotations
 import json
 import os
 import time
-import traceback
 import warnings
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from contextlib import nullcontext
 from pathlib import Path
 from typing import Any, cast
@@ -32,209 +26,12 @@ from ..control import synthesis
 from ..infra.checks import check_option, check_real
 from ..control.closedloop import LoopSettings
 from ..infra.results import normalise_key, read_keyed, run_lock, write_json
-from ..control.synthesis import Scenario, SynthesisOptions
+from ..control.synthesis import SynthesisOptions
+from .cluster import as_finished
+from .objective import CODESIGN_OPTIONS, M0_PAPER, evaluate_particle, lost_evaluation, objective_value, tolerance_shifts
 
-__all__ = ["M0_PAPER", "H_M0", "NUMERICAL_FAILURES", "check_study", "grid_key", "lost_evaluation", "CODESIGN_OPTIONS", "synthesis_options", "objective_value", "truss_mass_from_dc", "evaluate_particle", "evaluate_swarm", "evaluate_grid", "close_client",
-           "local_client", "partial_path", "evaluations_path", "evaluation_key", "tolerance_shifts", "on_resolution", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
-
-M0_PAPER = 183.11  # kg, the paper's truss mass at h = 3 cm (m0)
-H_M0 = 0.03  # m, the section side of the paper's reference truss, whose mass is m0 (whatever the design range)
-TARGET_JC = 0.9
-PENALTY = 10.0
-JC_LIMIT = 2.0
-# Stopping rule of the synthesis inside the co-design: less than 1 % decrease of J over 5 accepted steps (the
-# synthesis default is 0.2 %). J_c enters f^n through |0.9 - J_c| with J_c of a few 1e-2, so the looser rule moves
-# f^n little: measured by benchmarks/robust_synthesis.py on a cold start at 2.5 cm, J_c 0.01871 with the default rule
-# and 0.01930 with this one (f^n 0.04 % apart), in 101 iterations instead of 145 (41.7 s instead of 55.6 s).
-CODESIGN_OPTIONS = SynthesisOptions(tol=1e-2)
-
-
-def synthesis_options(fast: bool = False, trust_region: str = "box", restoration: str = "minmax") -> SynthesisOptions:
-    """The co-design's synthesis options (:data:`CODESIGN_OPTIONS`) with the fast path, a trust-region shape and a
-    restoration step (those of :class:`trusscodesign.control.synthesis.SynthesisOptions`; a ValueError for an unknown
-    shape or restoration). Notebook 07's stored runs use ``(True, "ball", "least_change")``."""
-    return CODESIGN_OPTIONS.replace(fast=fast, trust_region=trust_region, restoration=restoration)
-
-
-def objective_value(mass: float, j_c: float, m0: float) -> float:
-    """The paper's nested objective ``f^n`` (penalty 10 when ``J_c > 2`` or the synthesis failed, ``J_c = inf`` or NaN).
-
-    ``mass`` and ``m0`` [kg] must be finite and positive, ``j_c`` non-negative (or NaN / inf for a failed synthesis).
-    """
-    for name, value in (("mass", mass), ("m0", m0)):
-        if not (isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a finite positive mass [kg], got {value!r}")
-    if j_c < 0:
-        raise ValueError(f"j_c must be a non-negative H-infinity norm (inf or NaN for a failed synthesis), got {j_c!r}")
-    if not (np.isfinite(j_c) and j_c <= JC_LIMIT):
-        return mass / m0 + PENALTY
-    return mass / m0 + abs(TARGET_JC - j_c)
-
-
-def tolerance_shifts(truss_tolerance: float) -> tuple[float, ...]:
-    """The relative section-side errors a truss-tolerant design is synthesised against: ``-t, -t/2, t/2, t`` for the
-    tolerance ``t`` (none for 0: the paper's recipe, the exact truss only).
-
-    Four shifts rather than the two ends: notebook 06b's designs made against these pass all 9 shifts of a finer check
-    within +-2 % (with 37 panel angles), which a check between the synthesised shifts could otherwise fail.
-
-    Raises
-    ------
-    ValueError
-        Unless ``truss_tolerance`` is a relative error in [0, 0.2) (0.02 for 2 %).
-    """
-    if isinstance(truss_tolerance, bool) or not isinstance(truss_tolerance, (int, float, np.integer, np.floating)) \
-            or not (0.0 <= float(truss_tolerance) < 0.2):
-        raise ValueError(f"truss_tolerance must be a relative section-side error in [0, 0.2) (0.02 for +-2 %; 0 for the "
-                         f"paper's recipe), got {truss_tolerance!r}: in percent? (divide by 100)")
-    t = float(truss_tolerance)
-    return () if t == 0.0 else (-t, -t / 2, t / 2, t)
-
-
-def truss_mass_from_dc(models, params: dict | None = None) -> float:
-    """T-truss mass [kg] from the DC gain ``W_P1 -> a_P1`` of the reduced model at nominal parameters.
-
-    The 6x6 DC gain is inverted (the CoG is not at P1); its (1, 1) entry is the spacecraft mass, from which the
-    hub, panels, antenna and PMAs are subtracted.
-    """
-    p = params or spacecraft.load_parameters()
-    a, b, c, d = models.g_r.evaluate({k: v.nominal for k, v in models.g_r.params.items()})
-    ii = [spacecraft.INPUTS.index(f"W_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
-    oo = [spacecraft.OUTPUTS.index(f"a_P1_{x}") for x in ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")]
-    mass = float(np.linalg.inv(d[np.ix_(oo, ii)] - c[oo] @ np.linalg.solve(a, b[:, ii]))[0, 0])
-    others = {k: v for k, v in spacecraft.component_masses(models.h, params=p).items() if k != "truss"}
-    return mass - sum(others.values())
-
-
-#: What a failed evaluation raises: a model that cannot be built at h, a singular matrix, a synthesis or solver that
-#: does not converge, an overflow. The particle is penalised and the run goes on.
-NUMERICAL_FAILURES: tuple[type[Exception], ...] = (ArithmeticError, ValueError, RuntimeError)
-#: Subclasses of those that are programming errors, not numerics: they stop the run with their traceback.
-NOT_NUMERICAL: tuple[type[Exception], ...] = (NotImplementedError, RecursionError, UnicodeError)
-
-
-def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
-                      m0: float = M0_PAPER, fail: bool = False, synthesis_options: SynthesisOptions | None = None,
-                      scenarios0: Sequence[Sequence[float]] | None = None, truss_tolerance: float = 0.0) -> dict:
-    """One objective evaluation (Steps 1-4 for one particle); a numerical failure is a penalised particle, not an error.
-
-    Parameters
-    ----------
-    h : float
-        Section side [m].
-    gain0 : array_like (4, 8), optional
-        Warm start (default: all gains at -1).
-    settings, params
-        Closed-loop settings and spacecraft parameters (defaults: the data files).
-    m0 : float
-        Reference mass [kg] (the paper's 183.11 kg, truss at 3 cm).
-    fail : bool
-        Raise inside the evaluation (to test that a failure is penalised and logged, not fatal).
-    synthesis_options : SynthesisOptions, optional
-        Of :func:`trusscodesign.study.design.robust_design` (default :data:`CODESIGN_OPTIONS`).
-    scenarios0 : sequence of 4-vectors, optional
-        Initial scenario set of the synthesis, normalised ``(d_mass, d_iyy, d_omega1, theta)`` (default: the
-        21 of :func:`trusscodesign.control.synthesis.default_scenarios`); the warm start passes the set the best particle ended with,
-        so that the scenarios its worst-case searches found are there from the start.
-    truss_tolerance : float
-        Relative section-side error the design must survive (0.02: +-2 %): the gain is synthesised on the truss at h and
-        at ``h (1 + s)`` for each shift of :func:`tolerance_shifts` (the truss-tolerant synthesis of notebook 06b), so a
-        design that cannot serve them all is a failed, penalised particle. Default 0: the paper's recipe (the exact truss).
-
-    Returns
-    -------
-    dict
-        ``h``, ``f``, ``J_c``, ``Z_c``, their critical frequencies [rad/s] and panel angles [deg] (``critical_omega``,
-        ``critical_theta_deg``, ``effort_omega``, ``effort_theta_deg``, as :func:`trusscodesign.study.design.design_record`),
-        ``mass`` (from the DC gain), ``mass_check`` (rho h^2 L), ``status``
-        (``"ok"``, ``"penalty: J_c > 2"`` or ``"failed: <reason>"``), ``gain`` (4x8 list or None), and the times
-        ``t_model`` (= ``t_build`` + ``t_reduction`` + ``t_variants``, the shifted trusses' models), ``t_synthesis`` [s],
-        ``scenarios`` (the final set, as
-        4-vectors, or None). A :data:`NUMERICAL_FAILURES` raised inside (including a bad ``h``) makes the record
-        failed, with ``traceback``.
-
-    Raises
-    ------
-    Exception
-        Any other error (TypeError, NameError, AttributeError, KeyError, ...: a programming error), with its traceback.
-    """
-    from threadpoolctl import threadpool_limits
-
-    from . import design
-
-    t0 = time.perf_counter()
-    out = _new_record(h)
-    p = params or spacecraft.load_parameters()
-    try:
-        out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), p)  # inside: a bad h is a failed particle
-        with threadpool_limits(1):
-            if fail:
-                raise RuntimeError("injected failure (test)")
-            models = design.models_at(float(h), params=p)
-            out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
-            t1 = time.perf_counter()
-            variants = design.truss_variants(models, tolerance_shifts(truss_tolerance), p)
-            out["t_variants"] = time.perf_counter() - t1
-            out["t_model"] = time.perf_counter() - t0
-            mass_dc = truss_mass_from_dc(models, p)
-            if not abs(mass_dc - out["mass_check"]) <= 1e-6 * out["mass_check"]:  # (NaN fails too)
-                raise RuntimeError(f"the truss mass from the DC gain, {mass_dc:.6f} kg, differs from rho h^2 L = "
-                                   f"{out['mass_check']:.6f} kg: the reduced model does not keep the rigid mass")
-            out["mass"] = mass_dc
-            t1 = time.perf_counter()
-            scen = None if scenarios0 is None else [Scenario.from_vector(v) for v in scenarios0]
-            opts = CODESIGN_OPTIONS if synthesis_options is None else synthesis_options
-            res = design.robust_design(models, settings, opts, gain0=gain0, variants=variants, scenarios=scen, workers=1)
-            out["t_synthesis"] = time.perf_counter() - t1
-        record = design.design_record(res)  # with the critical frequencies [rad/s] and panel angles [deg]
-        out.update({k: record[k] for k in _CRITICAL})
-        out.update(J_c=float(res.j_c), Z_c=float(res.z_c), gain=np.asarray(res.gain).tolist(), iterations=res.iterations,
-                   scenarios=[sc.vector().tolist() for sc in res.scenarios])
-        out["status"] = "ok" if res.success else f"failed: {res.message}"
-        if not res.success:
-            out["J_c"] = np.inf
-    except NUMERICAL_FAILURES as exc:  # a failed particle is penalised and logged; a programming error stops the run
-        if isinstance(exc, NOT_NUMERICAL):
-            raise
-        out["status"] = f"failed: {type(exc).__name__}: {exc}"
-        out["traceback"] = traceback.format_exc(limit=3)
-    out["t_total"] = time.perf_counter() - t0
-    return _with_objective(out, m0)
-
-
-_CRITICAL = ("critical_omega", "critical_theta_deg", "effort_omega", "effort_theta_deg")
-
-
-def _new_record(h: float) -> dict[str, Any]:
-    """A particle's record before its evaluation: no design yet (J_c, Z_c infinite), no mass, no times."""
-    return {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
-            "t_reduction": 0.0, "t_variants": 0.0, "t_synthesis": 0.0, **dict.fromkeys(_CRITICAL), "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
-
-
-def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:
-    """``out`` with its status made a penalty where ``J_c > 2`` and its objective value ``f`` (infinite without a mass)."""
-    if out["status"] == "ok" and not out["J_c"] <= JC_LIMIT:  # NaN too
-        out["status"] = "penalty: J_c > 2"
-    try:
-        out["f"] = objective_value(out["mass"], out["J_c"], m0) if np.isfinite(out["mass"]) else np.inf
-    except ValueError as exc:  # e.g. a bad m0: the particle fails, the run goes on
-        out["status"], out["f"] = f"failed: {exc}", np.inf
-    return out
-
-
-def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float = M0_PAPER) -> dict[str, Any]:
-    """The record of a particle whose evaluation never returned (it killed every worker that ran it): failed, with its
-    reason, and penalised like any failed synthesis (``f = m(h)/m0 + 10``).
-
-    Raises
-    ------
-    ValueError
-        If ``h`` is not a section side (the swarm's particles always are: a bad one is a programming error).
-    """
-    out = _new_record(h)
-    out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), params or spacecraft.load_parameters())
-    out["status"] = f"failed: {reason}"
-    return _with_objective(out, m0)
+__all__ = ["check_study", "grid_key", "evaluate_swarm", "evaluate_grid", "partial_path", "evaluations_path", "evaluation_key",
+           "on_resolution", "START_RULES", "distinct_evaluations", "evaluation_counts", "run_codesign"]
 
 
 def _check_synthesis_options(options: object) -> None:
@@ -260,43 +57,6 @@ def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, para
     objective_value(1.0, 0.0, m0)  # m0: a ValueError now, not after every particle's synthesis
     _check_synthesis_options(synthesis_options)
     tolerance_shifts(truss_tolerance)
-
-
-# Dask's nanny starts its workers with MALLOC_TRIM_THRESHOLD_=65536 (to hand freed memory back to the OS). Setting it
-# at all pins glibc's mmap threshold at 128 KiB, so every temporary array above that size is mmap'ed and page-faulted
-# anew: measured on this machine, a warm synthesis by the fast path took 33.3 s in a Dask worker, 16.8 s in a plain
-# process, 29.8 s in a plain process with that variable, and 17.4 s in a worker without it. None unsets it.
-NANNY_ENVIRON = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
-
-
-def local_client(n_workers: int | None = None, scheduler: str | None = None):
-    """A Dask client: to ``scheduler`` (address of a running scheduler) or a local cluster of ``n_workers`` processes.
-
-    Workers get one thread each and one BLAS thread (``OPENBLAS_NUM_THREADS=1`` is set before they start), so that
-    process-level parallelism does not oversubscribe the cores. The local workers do not get the
-    ``MALLOC_TRIM_THRESHOLD_=65536`` that Dask's nanny sets by default (:data:`NANNY_ENVIRON`); on a cluster of your
-    own, set ``distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_`` to null in its Dask configuration too.
-    """
-    import os
-
-    import dask
-    from dask.distributed import Client, LocalCluster
-
-    if scheduler:
-        return Client(scheduler)
-    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ[var] = "1"
-    n = n_workers or os.cpu_count() or 1
-    with dask.config.set(NANNY_ENVIRON):
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
-    return Client(cluster)
-
-
-def close_client(client) -> None:
-    """Close a client of :func:`local_client`, and the local cluster it started (a scheduler of your own stays up)."""
-    client.close()
-    if client.cluster is not None:
-        client.cluster.close()
 
 
 def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
@@ -351,7 +111,7 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
         futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw): (h, fail)
                    for h, fail in todo}
         lost = []
-        for fut in _as_finished(client, futures):
+        for fut in as_finished(client, futures):
             try:
                 finished(futures[fut], fut.result())
             except KilledWorker:  # its workers died: this particle's doing, or another's
@@ -361,43 +121,13 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
         for h, fail in lost:
             try:
                 alone = client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw)
-                rec = next(_as_finished(client, [alone])).result()
+                rec = next(as_finished(client, [alone])).result()
             except KilledWorker as exc:
                 rec = lost_evaluation(h, f"the evaluation ended its worker every time (KilledWorker: {exc})", params, m0)
             finished((h, fail), rec)  # saved in the partial file: a resume does not run it again
     bar.close()
     first = {k: i for i, k in reversed(list(enumerate(keys)))}
     return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
-
-
-WORKERLESS_S = 120.0  # s without any worker after which a wait on the cluster gives up (its workers died for good)
-_POLL_S = 10.0  # s between two looks at the cluster while waiting
-
-
-def _as_finished(client, futures) -> Iterator:
-    """The futures, as they finish; a RuntimeError once the cluster has had no worker for :data:`WORKERLESS_S`.
-
-    ``dask.distributed.as_completed`` waits for ever when every worker has died and none was restarted (seen with a
-    nanny that could not restart its worker on an overloaded machine): the co-design would hang instead of stopping
-    with what it has saved.
-    """
-    from dask.distributed import wait
-
-    pending, alone_since = set(futures), None
-    while pending:
-        try:
-            done, pending = wait(pending, timeout=_POLL_S, return_when="FIRST_COMPLETED")
-        except TimeoutError:
-            if client.scheduler_info().get("workers"):
-                alone_since = None
-            elif alone_since is None:
-                alone_since = time.monotonic()
-            elif time.monotonic() - alone_since > WORKERLESS_S:
-                raise RuntimeError(f"the Dask cluster has had no worker for {WORKERLESS_S:.0f} s (they died and were not "
-                                   f"restarted) with {len(pending)} evaluations waiting: restart the cluster (the notebook's "
-                                   "kernel) and rerun; every finished evaluation is saved and is not run again") from None
-            continue
-        yield from done
 
 
 def _tag(key: tuple[float, bool]) -> str:

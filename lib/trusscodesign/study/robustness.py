@@ -476,7 +476,7 @@ def sweep(model_low: LFT, thetas: ArrayLike, gain: ArrayLike, inertia_p1: ArrayL
     thetas : array_like
         Panel angles [rad].
     client : dask.distributed.Client, optional
-        E.g. :func:`trusscodesign.study.codesign.local_client` (one single-threaded worker per core); default: this process.
+        E.g. :func:`trusscodesign.study.cluster.local_client` (one single-threaded worker per core); default: this process.
     progress : callable
         Wraps the iterable of finished angles (e.g. a tqdm progress bar with ``total=len(thetas)``).
     partial : path, optional

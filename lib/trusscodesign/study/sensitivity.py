@@ -328,7 +328,7 @@ def study(h: float, cases: Sequence[Case], params: dict | None = None, settings:
     robust, options
         As :func:`evaluate_case`.
     client : dask.distributed.Client, optional
-        Runs the cases in parallel (e.g. :func:`trusscodesign.study.codesign.local_client`); default: this process.
+        Runs the cases in parallel (e.g. :func:`trusscodesign.study.cluster.local_client`); default: this process.
     partial : path, optional
         JSON file where each finished case is saved at once; a study with the same h, parameters, settings, options,
         model version and synthesis algorithm takes the cases it holds from it. Removed once every case is done.
@@ -367,12 +367,12 @@ def study(h: float, cases: Sequence[Case], params: dict | None = None, settings:
                 for t, changes in todo:
                     yield t, evaluate_case(h, changes, params, settings, robust, options, base)
                 return
-            from .codesign import _as_finished
+            from .cluster import as_finished
 
             m = client.scatter(base, broadcast=True)
             futures = {client.submit(evaluate_case, h, changes, params, settings, robust, options, m, 1,
                                      pure=False, retries=1): t for t, changes in todo}
-            for fut in _as_finished(client, futures):
+            for fut in as_finished(client, futures):
                 yield futures[fut], fut.result()
 
         for tag, row in progress(_Sized(finished(), len(first))):

@@ -44,7 +44,7 @@ class SynthesisOptions:
         Panel angles of the worst-case search grid [deg] (default 10, every 20 deg from 0 to 180).
     tol : float
         Relative decrease of J over the last 5 accepted steps of a round's optimisation phase below which it stops
-        (default 2e-3; the co-design's 1e-2, :data:`trusscodesign.study.codesign.CODESIGN_OPTIONS`).
+        (default 2e-3; the co-design's 1e-2, :data:`trusscodesign.study.objective.CODESIGN_OPTIONS`).
     fast : bool
         Evaluate the scenario plants and stability-only plants during the optimisation through their open-loop
         modal form (:mod:`trusscodesign.control.modalloop`: ``O(n^2)`` per gain instead of a dense eigen-decomposition); the final
