@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from trusscodesign.model import frames, ports, titop
+from trusscodesign.model import frames, interconnect, ports, titop
 
 SEC = titop.Section.square(0.03)
 OMEGA = np.logspace(0, 4, 40)
@@ -76,27 +76,6 @@ def test_bad_channel_sets_and_ports_raise():
         model.invert([0]).transport("C", [0, 0, 0])
 
 
-def test_connect_rejects_two_free_ports_and_misplaced_nodes():
-    b1 = titop.beam(("A", [0, 0, 0]), ("B", [1, 0, 0]), SEC)
-    b2 = titop.beam(("C", [1, 1, 0]), ("B", [1, 0, 0]), SEC)
-    with pytest.raises(ValueError, match="free in several models"):
-        ports.connect([b1, b2])
-    b3 = titop.beam(("C", [1, 1, 0]), ("B", [1, 0.5, 0]), SEC).invert_ports("B")
-    with pytest.raises(ValueError, match="node 'B'"):
-        ports.connect([b1, b3])
-
-
-def test_connect_parent_child_equals_analytic_serial_beam_statics():
-    # Two collinear beams in series (clamped at A, free at C) have the static
-    # compliance of one beam of twice the length.
-    b1 = titop.beam(("A", [0, 0, 0]), ("B", [1, 0, 0]), SEC)
-    b2 = titop.beam(("B", [1, 0, 0]), ("C", [2, 0, 0]), SEC)
-    chain = ports.connect([b1, b2], order=["A", "B", "C"])
-    assert [p.kind for p in chain.ports] == ["clamped", "free", "free"]
-    single = titop.clamped_free(2.0, SEC)
-    np.testing.assert_allclose(chain.static_compliance("C"), single.static_compliance("C"), rtol=1e-9, atol=1e-18)
-
-
 def test_statespace_conversion_has_named_signals():
     model = titop.clamped_free(1.0, SEC)
     sys = model.to_statespace()
@@ -139,7 +118,7 @@ def test_ports_refuse_fractional_channels_complex_matrices_and_bad_atol():
         ports.MultiPortModel([[-1.0 + 2.0j]], [[1.0]], [[1.0]], [[0.0]], [port])
     for atol in (-1.0, np.nan, np.inf):
         with pytest.raises(ValueError, match="atol"):
-            ports.connect([beam], atol=atol)
+            interconnect.connect([beam], atol=atol)
     with pytest.raises(TypeError, match="atol"):
-        ports.connect([beam], atol="1e-9")
-    ports.connect([beam], atol=0)
+        interconnect.connect([beam], atol="1e-9")
+    interconnect.connect([beam], atol=0)

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from trusscodesign.model import assembly, titop
+from trusscodesign.model import assembly, interconnect, titop
 from trusscodesign.model.lft import Parameter
 
 # Three different parameter sets: the paper's aluminium beam, a long steel beam
@@ -202,13 +202,13 @@ def test_rectangular_sections_need_a_beam_frame_and_models_their_shapes():
 
 
 def test_connect_and_constrained_frequencies_check_their_nodes():
-    from trusscodesign.model import assembly, ports
+    from trusscodesign.model import assembly
 
     sec = titop.Section.square(0.03)
     first = titop.beam(("A", [49.0, 0, 0]), ("B", [50.0, 0, 0]), sec)
     second = titop.beam(("B", [50.0004, 0, 0]), ("C", [51.0, 0, 0]), sec)  # B 0.4 mm apart: was accepted (rtol 1e-5)
     with pytest.raises(ValueError, match="one frame"):
-        ports.connect([first, second])
+        interconnect.connect([first, second])
     with pytest.raises(ValueError, match="belong to no member"):  # was a LinAlgError deep in scipy
         assembly.constrained_frequencies({"A": [0, 0, 0], "B": [1, 0, 0], "Z": [5, 5, 5]}, [("A", "B")], sec, ["A"])
 

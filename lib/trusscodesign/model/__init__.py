@@ -2,7 +2,7 @@
 
 ``statespace`` (checked state-space arrays, channel inversion, static closure, frequency responses), ``lft``
 (uncertain/tunable parameters and LFT algebra), ``frames`` (DCMs, kinematic model tau, rotation LFTs), ``ports``
-(multi-port models, interconnection, delta ports), ``titop`` (analytical Euler-Bernoulli beam, h-parametrised LFT
+(multi-port models: causality, inversion, frame change, delta ports), ``interconnect`` (their assembly at shared nodes), ``titop`` (analytical Euler-Bernoulli beam, h-parametrised LFT
 beam), ``mechanisms`` (L-chain, triangle, square), ``cube``, ``nastran`` (the cube's stored Nastran/SDT tables, read
 and checked), ``truss`` (T-truss), ``modal`` (participation factors, models from modal data), ``reduction`` (spurious
 slow poles, modal reduction), ``bodies`` (hub, antenna, PMA, solar panel on SADM), ``schema`` (the spacecraft

@@ -20,7 +20,8 @@ from scipy import linalg
 from . import frames
 from .lft import LFT, Parameter
 from .modal import cantilever_from_modes
-from .ports import MultiPortModel, connect, node_port, scalar_port
+from .interconnect import connect
+from .ports import MultiPortModel, node_port, scalar_port
 from .statespace import close_static
 
 __all__ = [

@@ -20,7 +20,7 @@ Ni -> N(i+4) and the side diagonal) clamped at the bottom and its free vertex at
 top; the top square ``S^CCCC`` is clamped at the four top nodes. Each L-chain's vertex
 receives the external wrench minus the square's reaction, the square receives the
 vertex accelerations, and the bottom nodes' wrenches are the sums of the two
-L-chains meeting there (``trusscodesign.model.ports.connect`` applies these rules).
+L-chains meeting there (``trusscodesign.model.interconnect.connect`` applies these rules).
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ from __future__ import annotations
 import numpy as np
 
 from .mechanisms import l_chain, square_cccc
-from .ports import MultiPortModel, connect
+from .interconnect import connect
+from .ports import MultiPortModel
 from .titop import Section
 
 __all__ = ["SIDE_LAYOUTS", "TOP_LAYOUTS", "cube_nodes", "cube_members", "cube_cccc_ffff", "cube_cfff_ffff"]

@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .ports import MultiPortModel, connect
+from .interconnect import connect
+from .ports import MultiPortModel
 from .titop import Section, beam
 
 __all__ = [

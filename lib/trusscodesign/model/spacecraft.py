@@ -29,7 +29,8 @@ from . import bodies, frames
 from ..infra import paths
 from ..infra.checks import check_panel_angles
 from .lft import LFT, Parameter
-from .ports import MultiPortModel, connect
+from .interconnect import connect
+from .ports import MultiPortModel
 from .reduction import modal_reduction, static_gain
 from .titop import DAMPING_MODELS, Section
 from .truss import t_truss, truss_members, truss_nodes

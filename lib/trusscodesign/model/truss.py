@@ -19,7 +19,7 @@ two couples of PMAs along x and y at N17 and N20 then produce, in phase, the two
 translations orthogonal to the LOS and, in opposition, the two moments about x and y
 (LOS elevation and azimuth), as the paper requires. Envelope a x 3a x 3a.
 
-Assembly: ``trusscodesign.model.ports.connect`` of the five cube blocks (each ``C^{CCCC-FFFF}``,
+Assembly: ``trusscodesign.model.interconnect.connect`` of the five cube blocks (each ``C^{CCCC-FFFF}``,
 re-projected with its DCM); at every shared node one cube is free (it carries the
 node) and the others are clamped there. 45 loop-closing inversions (9 per cube)
 leave 540 spurious poles at s = 0.
@@ -32,7 +32,8 @@ import numpy as np
 from . import frames
 from ..infra.checks import check_real
 from .cube import cube_cccc_ffff, cube_members, cube_nodes
-from .ports import MultiPortModel, connect
+from .interconnect import connect
+from .ports import MultiPortModel
 from .titop import Section
 
 __all__ = ["CUBES", "truss_nodes", "truss_members", "t_truss_all_ports", "t_truss"]
