@@ -33,15 +33,15 @@ def timed(fn, repeat):
 
 def naive_models(h: float) -> tuple:
     """The reference path of ``models_at``'s reductions (see the module docstring)."""
-    fast = reduction._sylvester_schur
-    reduction._sylvester_schur = reduction._sylvester_general
+    fast = reduction.sylvester_schur
+    reduction.sylvester_schur = reduction.sylvester_general
     try:
         lft = spacecraft.open_loop(h, uncertain=True).uncertain().grouped()
         low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d)
         return (low, reduction.modal_reduction(*low.reduced, omega_max=500.0),
                 reduction.modal_reduction(*low.reduced, omega_max=1e4))
     finally:
-        reduction._sylvester_schur = fast
+        reduction.sylvester_schur = fast
 
 
 def main() -> None:

@@ -11,7 +11,7 @@ from scipy.optimize import linear_sum_assignment
 from trusscodesign.control import hinf, synthesis
 from trusscodesign.control.closedloop import GeneralizedPlant, LoopSettings
 from trusscodesign.control.modalloop import ModalLoop, _symmetrise, aberth_poles, sigma_max
-from trusscodesign.control.synthesis import Scenario, peaks, plant_at
+from trusscodesign.control.synthesis import Scenario, plant_at
 from trusscodesign.model.statespace import frequency_response
 
 ST = LoopSettings.from_parameters()
@@ -225,10 +225,12 @@ def _synthetic_plant(rng: np.random.Generator, n_modes: int = 14, weak: int = 0,
 
 
 def _dense_gradients(plant: GeneralizedPlant, gain: np.ndarray, lam: np.ndarray) -> list[np.ndarray]:
-    """``d lambda / dK`` (4x8) of each pole, from LAPACK's eigenvectors, the pole matched by nearest distance."""
-    eig = peaks._eigen(plant, gain)
-    left, right = eig.vectors()
-    return [np.outer(left[j], right[:, j]) for j in (int(np.argmin(np.abs(eig.lam - x))) for x in lam)]
+    """``d lambda / dK`` (4x8) of each pole, ``(w^H B_v)^T (C_y v)`` from LAPACK's right eigenvectors ``v`` of the closed
+    loop ``A + B_v K C_y`` (``w^H`` the rows of their inverse), the pole matched by nearest distance."""
+    b_v, c_y = plant.b[:, plant.n_exo:], plant.c[plant.n_reg:, :]
+    poles, vr = np.linalg.eig(plant.a + b_v @ gain @ c_y)
+    left, right = np.linalg.solve(vr, b_v), c_y @ vr
+    return [np.outer(left[j], right[:, j]) for j in (int(np.argmin(np.abs(poles - x))) for x in lam)]
 
 
 def test_a_fallback_keeps_the_unmoved_modes_in_their_places(monkeypatch):

@@ -30,15 +30,15 @@ def test_sylvester_on_schur_blocks_matches_scipy():
     t, _, k = linalg.schur(a, output="real", sort=lambda re, im: re < 0)
     assert 0 < k < 40
     t1, t12, t2 = t[:k, :k], t[:k, k:], t[k:, k:]
-    x = reduction._sylvester_schur(t1, t2, -t12)
-    ref = reduction._sylvester_general(t1, t2, -t12)
+    x = reduction.sylvester_schur(t1, t2, -t12)
+    ref = reduction.sylvester_general(t1, t2, -t12)
     assert np.max(np.abs(t1 @ x - x @ t2 + t12)) < 1e-10 * np.max(np.abs(t12))
     assert np.max(np.abs(x - ref)) < 1e-9 * np.max(np.abs(ref))
 
 
 def test_sylvester_warns_when_the_blocks_share_a_pole():
     with pytest.warns(RuntimeWarning, match="nearly singular"):
-        reduction._sylvester_schur(np.array([[1.0]]), np.array([[1.0]]), np.array([[1.0]]))
+        reduction.sylvester_schur(np.array([[1.0]]), np.array([[1.0]]), np.array([[1.0]]))
 
 
 def test_slow_poles_are_spurious_only_once_the_hub_closes_the_loop():
@@ -62,7 +62,7 @@ def test_models_at_matches_the_naive_reduction(monkeypatch):
     between them."""
     h = 0.015
     fast = design.models_at(h)
-    monkeypatch.setattr(reduction, "_sylvester_schur", reduction._sylvester_general)
+    monkeypatch.setattr(reduction, "sylvester_schur", reduction.sylvester_general)
     low = (fast.g_r_low.a, fast.g_r_low.b, fast.g_r_low.c, fast.g_r_low.d)
     ref_r = reduction.modal_reduction(*low, omega_max=500.0)
     ref_spill = reduction.modal_reduction(*low, omega_max=1e4)

@@ -21,7 +21,8 @@ from scipy import linalg
 from .ports import MultiPortModel
 from .statespace import frequency_response
 
-__all__ = ["SlowSplit", "split_slow", "ModalReduction", "modal_reduction", "residualize_above", "remove_slow_poles", "static_gain"]
+__all__ = ["SlowSplit", "split_slow", "ModalReduction", "modal_reduction", "residualize_above", "remove_slow_poles", "static_gain",
+           "sylvester_schur", "sylvester_general"]
 
 
 @dataclass(frozen=True)
@@ -79,13 +80,13 @@ def _block_split(a: NDArray, b: NDArray, c: NDArray, select) -> tuple[int, tuple
         bz, cz = z.T @ b, c @ z
         return k, (t[:k, :k], bz[:k], cz[:, :k]), (t[k:, k:], bz[k:], cz[:, k:])
     t1, t12, t2 = t[:k, :k], t[:k, k:], t[k:, k:]
-    x = _sylvester_schur(t1, t2, -t12)
+    x = sylvester_schur(t1, t2, -t12)
     bz, cz = z.T @ b, c @ z
     # Similarity [[I, X], [0, I]]: B -> [[I, -X], [0, I]] B, C -> C [[I, X], [0, I]].
     return k, (t1, bz[:k] - x @ bz[k:], cz[:, :k]), (t2, bz[k:], cz[:, k:] + cz[:, :k] @ x)
 
 
-def _sylvester_schur(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
+def sylvester_schur(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
     """Solve ``T_1 X - X T_2 = rhs`` for ``T_1``, ``T_2`` already in real Schur form (LAPACK ``dtrsyl``).
 
     Not :func:`scipy.linalg.solve_sylvester`: it computes the Schur forms of both matrices again, which here they
@@ -100,9 +101,9 @@ def _sylvester_schur(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
     return x / scale
 
 
-def _sylvester_general(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
+def sylvester_general(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
     """The same equation by scipy's general solver (which computes both Schur forms again): the naive path that
-    :func:`_sylvester_schur` is tested and benchmarked against (substituted for it there)."""
+    :func:`sylvester_schur` is tested and benchmarked against (substituted for it there)."""
     return linalg.solve_sylvester(t1, -t2, rhs)
 
 
