@@ -217,3 +217,18 @@ def test_table_design_reads_each_preset_s_design_and_refuses_what_it_cannot_vouc
     results.save_results("07_pso_codesign", {"runs": {"stated": {"optimum": {**opt, "status": "penalised: Z_c > 1"}}}}, tmp_path, inputs=INPUTS)
     with pytest.raises(ValueError, match="not a valid design"):
         design.table_design("stated", "optimum", str(tmp_path))
+
+
+def test_notebook_06s_stored_design_recomputes_to_the_last_bit() -> None:
+    """The robust design notebook 06 stored at h = 2.139 cm (stated values, the synthesis's defaults, its restarts),
+    recomputed from its stored inputs by today's code: the same J_c, Z_c and gain, to the last bit."""
+    from trusscodesign.control.closedloop import LoopSettings
+    from trusscodesign.control.synthesis import SynthesisOptions
+
+    stored = results.load_results("06_robust_synthesis")
+    assert stored["inputs"] == spacecraft.inputs_key()  # the stored run's inputs are this checkout's
+    rec = stored["results"]["designs"]["2.139"]
+    options = SynthesisOptions(restarts=stored["parameters"]["synthesis_restarts"])
+    res = design.robust_design(design.models_at(stored["parameters"]["h_design"]), LoopSettings.from_parameters(), options)
+    assert (res.j_c, res.z_c, res.iterations) == (rec["J_c"], rec["Z_c"], rec["iterations"])
+    assert np.array_equal(res.gain, np.array(rec["gain"]))

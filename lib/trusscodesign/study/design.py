@@ -261,11 +261,9 @@ def robust_design(models: DesignModels, settings: LoopSettings | None = None, op
         How many times a failed synthesis is started again from its final gain, with the starting scenario set (default
         0: a failure is returned, flagged, as the co-design's stored runs had it). Not after a failure to stabilise
         from the starting gain (the gain has not moved); a failure to stabilise the scenarios a later round added is
-        restarted (from the last round's gain, with the starting scenario set).
-        Measured (``benchmarks/robust_synthesis.py``, Intel machine):
-        the truss-tolerant fast-path design at 2.1 cm stopped after 6 rounds with Z_c 1.234 (each worst-case search
-        found a worse effort scenario than the set), and one restart from its gain converged (Z_c 0.982; 470 s for both attempts).
-        The result is valid on its own checks (the last attempt's scenario set, search and final evaluation).
+        restarted (from the last round's gain, with the starting scenario set). The result is valid on its own checks
+        (the last attempt's scenario set, search and final evaluation). A case it rescued: ``docs/experiments.md``
+        ("Restarting a failed synthesis").
     gain0 : array_like (4, 8), optional
         Starting gain (default: all -1, as the paper; or the gain of a neighbouring design).
     variants : sequence of DesignModels

@@ -53,25 +53,19 @@ class SynthesisOptions:
     trust_region : {"box", "ball"}
         Region of each step: the box ``|d_i| <= r_i`` on the gain entries (default: each step a linear program; every
         stored result) or that box intersected with the ball ``||d / r||_2 <= sqrt(32) / 2`` (a second-order cone program,
-        Clarabel). (A third shape, the ball in a BFGS metric learnt over the accepted steps, gained nothing and was
-        removed: ``docs/experiments.md``.) In the box, the steps of a cold start at the thin end of the h range sit in a corner of the box (27 to 32
-        of the 32 entries on its faces) while 6-10 pole-damping rows are active, and the synthesis can crawl for dozens
-        of steps and stop on that plateau (``docs/experiments.md``). Measured (``docs/experiments.md``,
-        fast path, 8 cases): the ball takes the two such stalls (J_c 0.164 at 1.5 cm with ``tol = 0.01``, 0.181 at
-        1.6 cm with 2e-3) and the 0.041 of 1.5 cm with 2e-3 to J_c 0.020-0.021; in the other cold starts its J_c is
-        3.6 % lower to 5.2 % higher than the box's; warm starts take fewer iterations (25-31 against 44-51) and end 1.6
-        and 14.5 % higher.
+        Clarabel). In the box, the steps of a cold start at the thin end of the h range can sit in a corner of the box
+        while several pole-damping rows are active, and the synthesis can stop on that plateau; the ball takes those
+        stalls to the neighbours' J_c (what was measured: ``docs/experiments.md``, "The ball trust region").
     restoration : {"minmax", "least_change"}
         The steps that restore stability (a start, or a scenario a search added, unstable at the current gain) and then
         ``Z < gamma_u``. ``"minmax"`` (default: every stored result): minimise the largest linearised pole margin (then
         the largest effort peak) in the trust region, which moves the gain to the edge of the region. ``"least_change"``:
-        the smallest step (:func:`_least_change`, inside the trust region) whose linearised margins pass their targets by
-        a quarter of their violation, then whose effort peaks reach ``gamma_u (1 - margin)`` (this phase lasting until
+        the smallest step inside the trust region whose linearised margins pass their targets by a quarter of their
+        violation, then whose effort peaks reach ``gamma_u (1 - margin)`` (this phase lasting until
         ``Z < gamma_u (1 - margin / 2)``); the min-max step where no such step fits in the region, and for the rest of a
-        stabilisation once a least-change trial has failed (``docs/experiments.md``). Measured
-        (``docs/experiments.md``): one min-max step that stabilised a scenario the search added (abscissa 2.7e-3 to
-        -5.0e-3 1/s, 5e4 times the required margin) took J from 0.018 to 0.071 and Z to 1.09, and the synthesis ended
-        not converged with J_c 0.12 after 6 rounds.
+        stabilisation once a least-change trial has failed. A min-max step can overshoot the required margin by orders
+        of magnitude and throw J away (what was measured: ``docs/experiments.md``, "Min-max against least-change
+        restoration").
     spillover : bool
         Used by :func:`trusscodesign.study.design.robust_design`: the nominal loops on the models' ``G_r_low`` as
         stability-only plants (default True).
