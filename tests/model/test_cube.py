@@ -102,15 +102,6 @@ def test_gap_explained_by_torsion_constant_lumped_mass_and_coarse_mesh():
     assert errors[("polar", "consistent", 20)] > 0.015  # the SDT-like choices: 2.0 %
 
 
-def test_two_fe_codes_agree():
-    s = titop.Section.square(0.03, torsion="exact")
-    nodes, members = cube.cube_nodes(), cube.cube_members()
-    w_ops = opensees_fe.frame_frequencies(nodes, members, s, ["N1"], 8, "consistent", 10)
-    w_own = frame_fe.build_frame(nodes, members, s, 8, "consistent").modes(["N1"], n_modes=10).omega
-    # OpenSees' consistent torsional inertia uses rho J instead of rho Ip: allow 0.2 %
-    np.testing.assert_allclose(w_ops, w_own, rtol=2e-3)
-
-
 def test_diagonal_layout_is_identified_by_the_data():
     w_sdt, l_sdt = TABLE["paper_sdt"]
     scores = {}

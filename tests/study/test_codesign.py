@@ -374,23 +374,6 @@ def test_evaluate_swarm_through_a_separately_started_scheduler(tmp_path):
             p.wait(timeout=30)
 
 
-def test_local_workers_keep_glibc_dynamic_mmap_threshold():
-    """Dask's nanny would start the workers with MALLOC_TRIM_THRESHOLD_ set, which pins glibc's mmap threshold and made
-    a fast-path synthesis twice as slow in a worker as in a plain process (measured: 33.3 s against 16.8 s)."""
-    import os
-
-    pytest.importorskip("dask.distributed")
-    client = cluster.local_client(1)
-    try:
-        env = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_"))
-        blas = client.run(lambda: os.environ.get("OPENBLAS_NUM_THREADS"))
-    finally:
-        client.close()
-        client.cluster.close()
-    assert list(env.values()) == [None]
-    assert list(blas.values()) == ["1"]
-
-
 def test_m0_is_the_papers_truss_mass_at_3_cm():
     """Paper: "the initial design having m0 = 183.11 kg" (and Table: 183.11)."""
     assert objective.M0_PAPER == 183.11
