@@ -75,3 +75,64 @@ def test_the_docs_pattern() -> None:
     assert DOC_REF.findall("Mathematics: ``docs/titop.md`` section b") == ["titop.md"]
     assert DOC_REF.findall("[`docs/titop.md`](../docs/titop.md)") == ["titop.md", "titop.md"]
     assert DOC_REF.findall("see https://example.org/docs/x.md and other/docs/y.md") == []
+
+
+# What a reader is pointed to: the notebooks (text and code), the README files and the docs pages.
+READ = ("notebooks/", "docs/", "README.md", "benchmarks/README.md")
+# A commit id: 7 to 40 hex digits with a letter and a digit, standing alone (history is git's, not the text's).
+COMMIT = re.compile(r"(?<![\w/.-])(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}(?![\w-])")
+# A repository path in backticks or a Markdown link: a folder/file (with a slash), not a URL.
+PATH_REF = re.compile(r"`((?:\.\./)*[\w.-]+/[\w./-]*)`|\]\(((?:\.\./)*[\w.-]+/[\w./-]*|[\w.-]+\.md)\)")
+# folders a run writes (git-ignored): named as where the outputs go, not as files that exist
+OUTPUTS = ("build/", "runs/")
+
+
+def _read_texts() -> dict[str, str]:
+    """The texts a reader reads: each notebook's cells (markdown and code) and the Markdown files of :data:`READ`."""
+    import json
+
+    out = {}
+    for path in _tracked():
+        rel = path.relative_to(ROOT).as_posix()
+        if not rel.startswith(READ) or path.suffix not in (".md", ".ipynb"):
+            continue
+        text = _text(path)
+        if text is None:
+            continue
+        if path.suffix == ".ipynb":
+            text = "\n".join("".join(c["source"]) for c in json.loads(text)["cells"])
+        out[rel] = text
+    return out
+
+
+def _missing_paths(rel: str, text: str) -> list[str]:
+    """The repository paths named in ``text`` (of the file ``rel``) that exist nowhere a reader would look: the root,
+    the file's folder, ``lib/`` or the package."""
+    missing = []
+    for m in PATH_REF.finditer(text):
+        name = (m.group(1) or m.group(2)).rstrip(".")
+        if name.startswith(OUTPUTS):
+            continue
+        places = [ROOT, (ROOT / rel).parent, ROOT / "lib", ROOT / "lib" / "trusscodesign"]
+        if not any((base / name).exists() for base in places):
+            missing.append(f"{rel}: {name}")
+    return missing
+
+
+def test_no_commit_ids_in_what_a_reader_reads() -> None:
+    hits = [f"{rel}: {m.group(0)}" for rel, text in _read_texts().items() for m in COMMIT.finditer(text)]
+    assert not hits, "commit ids (say what the run showed, not which commit made it):\n" + "\n".join(hits)
+
+
+def test_named_repository_paths_exist() -> None:
+    missing = [hit for rel, text in _read_texts().items() for hit in _missing_paths(rel, text)]
+    assert not missing, "paths named that do not exist:\n" + "\n".join(missing)
+
+
+def test_the_reference_patterns() -> None:
+    """The checks above can fail: a commit id and a missing path are found; hashes of parameters and paths that exist
+    are not flagged."""
+    assert [m.group(0) for m in COMMIT.finditer("the run of commit 5566afb quoted")] == ["5566afb"]
+    assert [m.group(0) for m in COMMIT.finditer("ids 1234567 and abcdefa, dec0de12")] == ["dec0de12"]
+    assert _missing_paths("README.md", "see `lib/trusscodesign/nope.py` and [x](docs/titop.md)") == ["README.md: lib/trusscodesign/nope.py"]
+    assert _missing_paths("notebooks/x.ipynb", "`data/results/` and `build/smoke/x.ipynb` and [r](../docs/results.md)") == []
