@@ -53,8 +53,9 @@ def certified(t: dict) -> str:
     return f"{t['sup upper']:.4f} (grid only)" if c is None or c != c else f"{c:.4f}"
 
 
-def rows(root: Path) -> list[tuple[str, str, str, str]]:
-    """``(quantity, paper, this toolkit, notebook)`` rows of the summary."""
+def rows(root: Path) -> list[tuple[str, str, str, str, str]]:
+    """``(quantity, spacecraft, paper, this toolkit, notebook)`` rows of the summary: ``spacecraft`` names the parameters
+    (the stated values or a preset) the row's numbers are computed on, "any" for the model's structure."""
     r3, r4, r5 = _load(root, "03_cube_vs_nastran"), _load(root, "04_t_truss_spacecraft"), _load(root, "05_lft_reduction")
     r6, r6b, r8 = _load(root, "06_robust_synthesis"), _load(root, "06b_calibration_tolerance"), _load(root, "08_worst_case_mu")
     f7 = _load(root, "07_pso_codesign", whole=True)
@@ -80,67 +81,69 @@ def rows(root: Path) -> list[tuple[str, str, str, str]]:
                 f"theta {t['critical theta [deg]']:.1f} deg")
 
     return [
-        ("Cube `C^{CFFF-FFFF}`, first 10 frequencies: mean error against Nastran", f"{100 * err['paper_sdt']:.2f} % (SDT)",
+        ("Cube `C^{CFFF-FFFF}`, first 10 frequencies: mean error against Nastran", "any", f"{100 * err['paper_sdt']:.2f} % (SDT)",
          f"{100 * err['this_sdt_settings']:.2f} % (SDT settings); {100 * err['this_exact_J']:.2f} % with the true torsion constant", "03"),
-        ("Open-loop model G: order / spurious slow poles removed", f"{PAPER_ORDER_G} / {PAPER_SLOW_POLES}",
+        ("Open-loop model G: order / spurious slow poles removed", "any", f"{PAPER_ORDER_G} / {PAPER_SLOW_POLES}",
          f"{r4['orders']['G']} / {r4['near_zero_poles']}", "04"),
-        ("Reduced model G_r: order", f"{PAPER_ORDER_G_R}",
+        ("Reduced model G_r: order", "any", f"{PAPER_ORDER_G_R}",
          " / ".join(str(n) for n in orders.values()) + " at h = " + " / ".join(orders) + " cm", "05"),
-        ("Delta occurrences " + ", ".join(names), ", ".join(str(occ_p[n]) for n in names), ", ".join(str(occ[n]) for n in names), "05"),
-        ("Truss mass m0 at h = 3 cm (from the DC gain)", f"{p7['m0_kg']:.2f} kg", f"{r7['m0_from_dc_kg']:.3f} kg", "07"),
-        (f"Truss mass at h = {p7['h_cm']} cm", f"{p7['mass_kg']:.2f} kg", f"{d6['truss_mass_kg']:.2f} kg", "06"),
+        ("Delta occurrences " + ", ".join(names), "any", ", ".join(str(occ_p[n]) for n in names), ", ".join(str(occ[n]) for n in names), "05"),
+        ("Truss mass m0 at h = 3 cm (from the DC gain)", "any", f"{p7['m0_kg']:.2f} kg", f"{r7['m0_from_dc_kg']:.3f} kg", "07"),
+        (f"Truss mass at h = {p7['h_cm']} cm", "any", f"{p7['mass_kg']:.2f} kg", f"{d6['truss_mass_kg']:.2f} kg", "06"),
         # the paper reports no Z_c or critical frequency of its synthesis: J_c is its co-design table's, the effort
         # bound and the frequency are its wcgain table's (on G_r_low, where its RPE gain is 0.7882)
-        (f"Robust design at h = {p6['h_cm']} cm: worst-case J_c / Z_c / critical frequency",
+        (f"Robust design at h = {p6['h_cm']} cm: worst-case J_c / Z_c / critical frequency", "stated",
          f"{p6['J_c']} (co-design table) / {p6['Z_c_mu_upper']:.2f} / {p6['critical_omega_rad_s']:.1f} rad/s (mu analysis)",
          f"{d6['J_c']:.4f} / {d6['Z_c']:.3f} / {d6['worst_rpe']['rpe_omega_rad_s']:.1f} rad/s", "06"),
-        (f"The same with the RPE window alone moved to t_Delta = {1e3 * PAPER_MATCH_T_DELTA:g} ms "
-         "(`lib/trusscodesign/data/spacecraft/presets/paper_match.json`)", "as above",
+        (f"The same with the RPE window alone moved to t_Delta = {1e3 * PAPER_MATCH_T_DELTA:g} ms", "`paper_match`", "as above",
          f"{t30['J_c']:.4f} / {t30['Z_c']:.3f} / {t30['critical_omega']:.1f} rad/s", "06"),
         (f"Two-sided sensitivity at h = {p6['h_cm']} cm, {len(lev)} levers one at a time: those that bring the robust J_c "
-         "within x3 of the paper's; the largest spreads of J_c over a lever's range", "-",
+         "within x3 of the paper's; the largest spreads of J_c over a lever's range", "stated", "-",
          f"{', '.join(paper_order) or 'none'}; " + ", ".join(f"{x['lever']} x{x['factor_over_range']:.3g}" for x in strongest), "06"),
-        (f"Calibrated preset (`{r6b['preset']['name']}`: " + ", ".join(f"{x['input']} {x['calibrated']}" for x in r6b["preset"]["departures"]
+        (f"Calibrated preset, a fit to the paper's outcomes and not physical values (`{r6b['preset']['name']}`: " + ", ".join(f"{x['input']} {x['calibrated']}" for x in r6b["preset"]["departures"]
                                                                    if x["input"] != "truss_damping_model")
-         + f"), robust design at h = {p6['h_cm']} cm: J_c / critical frequency / panel angle / Z_c",
+         + f"), robust design at h = {p6['h_cm']} cm: J_c / critical frequency / panel angle / Z_c", "`paper_calibrated`",
          f"{p6['J_c']} / {p6['critical_omega_rad_s']:.1f} rad/s / 69.4 deg / {p6['Z_c_mu_upper']:.2f}",
          "{J_c:.4f} / {critical_omega:.1f} rad/s / {critical_theta_deg:.1f} deg / {Z_c:.3f}".format(**r6b["residuals"][1]), "06b"),
         ("Truss-tolerant designs (stated values and calibrated preset, " + " and ".join(sorted({f"{x['h_cm']:.3f}".rstrip("0").rstrip(".") for x in r6b["designs"]}, key=float))
-         + " cm): checked shifts of the truss section side where stable with Z_c < 1; price in J_c on the exact truss", "-",
+         + " cm): checked shifts of the truss section side where stable with Z_c < 1; price in J_c on the exact truss", "stated and `paper_calibrated`", "-",
          "; ".join(f"{x['preset']} {x['h_cm']:g} cm: {x['valid_shifts']}/{x['checked_shifts']}, {100 * x['J_c_price']:+.1f} %"
                    for x in r6b["designs"] if x["design"] == "tolerant"), "06b"),
         (f"Co-design, stated values, the paper's recipe ({base['n_particles']} x {base['n_iterations']}): h / truss mass / change "
-         "from m0 / J_c", f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
+         "from m0 / J_c", "stated", f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']}",
          f"{100 * bo['h']:.3f} cm / {bo['mass']:.2f} kg / {100 * (bo['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / {bo['J_c']:.3f} ({how})",
          "07"),
         (f"Co-design on `{r7['headline']}`, designs tolerant to ±{100 * head['truss_tolerance']:g} % of h ({head['n_particles']} x "
-         f"{head['n_iterations']}): h / truss mass / change from m0 / J_c / Z_c / critical frequency, panel angle",
+         f"{head['n_iterations']}): h / truss mass / change from m0 / J_c / Z_c / critical frequency, panel angle", f"`{r7['headline']}`",
          f"{p7['h_cm']} cm / {p7['mass_kg']} kg / {p7['reduction_percent']} % / {p7['J_c']} / 0.90 / 97.7 rad/s, 69.4 deg",
          f"{100 * ho['h']:.3f} cm / {ho['mass']:.2f} kg / {100 * (ho['mass'] / r7['m0_from_dc_kg'] - 1):.1f} % / {ho['J_c']:.3f} / "
          f"{ho['Z_c']:.3f} / {ho['critical_omega']:.1f} rad/s, {ho['critical_theta_deg']:.1f} deg", "07"),
         (f"That optimum on trusses off by up to ±{100 * max(abs(c['shift_pct']) for c in head['check']) / 100:g} %: valid / checked "
-         "(panel angles)", "-", f"{sum(c['valid'] for c in head['check'])} / {len(head['check'])} ({head['check_angles']})", "07"),
-        ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %): calibrated / stated", "-",
+         "(panel angles)", f"`{r7['headline']}`", "-", f"{sum(c['valid'] for c in head['check'])} / {len(head['check'])} ({head['check_angles']})", "07"),
+        ("Swarm's best f^n against the dense grid's minimum (asked: within 1 %): calibrated / stated", f"`{r7['headline']}` / stated", "-",
          f"{100 * head['pso_vs_grid']:+.2f} % / {100 * base['pso_vs_grid']:+.2f} %", "07"),
-        ("Co-design 24 x 20 on 2 cores: the wall time of the swarm's iterations, distinct evaluations (calibrated, tolerant / stated)", PAPER_CODESIGN_TIME,
+        ("Co-design 24 x 20 on 2 cores: the wall time of the swarm's iterations, distinct evaluations (calibrated: tolerant designs, "
+         "cold starts shared per h / stated: the paper's recipe warm-started from the previous best); the paper's run reached "
+         "another optimum with other stopping rules, so the times are no speed-up", f"`{r7['headline']}` / stated", PAPER_CODESIGN_TIME,
          f"{head['run_time_s'] / 60:.0f} min, {head['counts']['distinct']} / {base['run_time_s'] / 60:.1f} min, "
          f"{base['counts']['distinct']}", "07"),
-        ("Worst case p~ -> RPE: mu upper / lower, frequency, panel angle", mu("p~ -> RPE", paper, " (paper)"),
+        ("Worst case of the analysed design, notebook 07's optimum (the paper: its optimum at 2.139 cm), p~ -> RPE: mu upper / "
+         "lower, frequency, panel angle", f"`{r8.get('preset', 'stated')}`", mu("p~ -> RPE", paper, " (paper)"),
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']} on `{r8.get('preset', 'stated')}`, h = {100 * r8['h']:.3f} cm)", "08"),
-        ("Worst case p~ -> W~u (effort): mu upper / lower, frequency, panel angle", mu("p~ -> W~u", paper, " (paper)"),
+        ("The same, p~ -> W~u (effort)", f"`{r8.get('preset', 'stated')}`", mu("p~ -> W~u", paper, " (paper)"),
          mu("p~ -> W~u", table), "08"),
-        ("Upper bound certified over all frequencies at the critical panel angle (section 4b): RPE / effort", "-",
+        ("Upper bound certified over all frequencies at the critical panel angle (section 4b): RPE / effort", f"`{r8.get('preset', 'stated')}`", "-",
          " / ".join(f"{c['certified_upper']:.4f} ({c['theta_deg']:.0f} deg, {'covered' if c['covered'] else 'NOT covered'}, "
                     f"{c['points']} points)" for c in (r8["certification"]["rpe"], r8["certification"]["effort"])), "08"),
         *[(f"Worst case on `{name}`, the paper's recipe at {100 * r8.get('h_paper', 0.02139):.3f} cm / the co-design optimum "
            f"({', '.join(f'{100 * x[1]:.3f} cm' for x in designs)}): p~ -> RPE mu upper certified at its critical angle / lower; "
-           "p~ -> W~u the same", f"{paper['p~ -> RPE (paper)']['sup upper']:.4f} / {paper['p~ -> RPE (paper)']['inf lower (max over angles)']:.4f}; "
+           "p~ -> W~u the same", f"`{name}`", f"{paper['p~ -> RPE (paper)']['sup upper']:.4f} / {paper['p~ -> RPE (paper)']['inf lower (max over angles)']:.4f}; "
            f"{paper['p~ -> W~u (paper)']['sup upper']:.4f} / {paper['p~ -> W~u (paper)']['inf lower (max over angles)']:.4f} (its design at 2.139 cm)",
            "; ".join(f"{100 * x[1]:.3f} cm: " + ", ".join(f"{certified(t)} / {t['inf lower (max over angles)']:.4f}"
                                                         for t in x[0]["table"].values()) for x in designs),
            "08") for name, designs in by_preset(r8).items() if name == r7["headline"]],
         ("Those worst cases in time: SADM torques of 2-norm p_max at the critical frequency, from rest: largest steady "
-         "RPE / PMA force (bound), envelope time constants", "-",
+         "RPE / PMA force (bound), envelope time constants", f"`{r8.get('preset', 'stated')}`", "-",
          f"{max(td['rpe']['steady_amplitudes']):.2f} µrad ({1e6 * st8['eps_max']:g}) / "
          f"{max(td['effort']['steady_amplitudes']):.2f} N ({st8['u_max']:g}), "
          f"{td['rpe']['tau_s']:.0f} s / {td['effort']['tau_s']:.0f} s", "08"),
@@ -231,8 +234,8 @@ def wrap(text: str, width: int = 120) -> str:
 
 def markdown(root: Path) -> str:
     """The summary table as Markdown (no trailing newline)."""
-    lines = ["| quantity | paper | this toolkit | notebook |", "|---|---|---|---|"]
-    lines += [f"| {q} | {p} | {t} | {n} |" for q, p, t, n in rows(root)]
+    lines = ["| quantity | spacecraft | paper | this toolkit | notebook |", "|---|---|---|---|---|"]
+    lines += [f"| {q} | {s} | {p} | {t} | {n} |" for q, s, p, t, n in rows(root)]
     return "\n".join(lines)
 
 
