@@ -6,7 +6,8 @@
 #   bash scripts/run_notebooks.sh --params study_dir/ --out runs/my_study
 #
 # Executed copies go to <out>/notebooks (default runs/latest), each with an HTML copy beside it. With --out, figures and
-# results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched.
+# results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched. Without --out and --params
+# (the paper's run), the executed copies are also kept with the project in notebooks/executed/ (scripts/keep_executed.py).
 # --params takes a YAML file of parameters applied to every notebook (each name must be declared by at least one
 # notebook; the others ignore it), or a folder: its all.yaml (if any)
 # applies to every notebook, then NN_name.yaml (if any) to that notebook alone, overriding
@@ -65,6 +66,8 @@ for nb in notebooks/[0-9][0-9]*_*.ipynb; do
     || echo "warning: no HTML copy of $(basename "$nb")" >&2
 done
 echo "executed notebooks in $nbdir"
+# the paper's run (no --out, no --params) is the one kept with the project: notebooks/executed/ (scripts/keep_executed.py)
+if [ -z "$out" ] && [ -z "$params" ]; then "$PY" scripts/keep_executed.py "$nbdir"; fi
 if [ ${#failed[@]} -gt 0 ]; then
   echo "FAILED (see the error cell of each executed copy in $nbdir): ${failed[*]}" >&2
   exit 1

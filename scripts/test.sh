@@ -7,10 +7,11 @@
 #
 # Two plain pytest processes share the two cores (TEST_WORKERS=1: one process, everything in order). The first runs
 # the notebook chain, 07 then 08 (08 analyses the design that 07 stores in build/smoke/results, and certifies three
-# designs' bounds over all frequencies: the longest notebook); the second runs the unit tests, the README's new-range
-# rerun of notebook 07 (tests/test_new_h_range.py, itself two smoke runs of 07) among them, and the other notebooks. pytest runs the files of one process in the order given on
-# its command line, each notebook's cells in order in one kernel: nothing here rests on how a plugin distributes
-# tests. Extra arguments go to both processes (e.g. -x, or -k NAME: a process that then selects no test counts as
+# designs' bounds over all frequencies: the longest notebook), then 06c (it reads only data/results/) and the site's
+# build (tests/test_site.py), which balance the two; the second runs the other unit tests, the README's new-range
+# rerun of notebook 07 (tests/test_new_h_range.py, itself two smoke runs of 07) among them, and the other notebooks.
+# pytest runs the files of one process in the order given on its command line, each notebook's cells in order in one
+# kernel: nothing here rests on how a plugin distributes tests. Extra arguments go to both processes (e.g. -x, or -k NAME: a process that then selects no test counts as
 # passed). Every kernel logs the asserts it runs; once both are done, tests/smoke_asserts_ran.py fails for a notebook one
 # of whose asserts never ran (scripts/smoke_asserts.py). The last line sums up the runs.
 set -euo pipefail
@@ -32,7 +33,7 @@ export IPYTHONDIR="$PWD/build/smoke/ipython"
 unset PYTHONOPTIMIZE  # asserts compiled away would be logged as run
 mkdir -p "$IPYTHONDIR/profile_default/startup"
 "$PY" scripts/smoke_asserts.py --startup > "$IPYTHONDIR/profile_default/startup/00-smoke-asserts.py"
-chain=() others=()
+chain=() late=() others=()
 # byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
 export LC_COLLATE=C
 for nb in notebooks/[0-9][0-9]*_*.ipynb; do
@@ -40,7 +41,11 @@ for nb in notebooks/[0-9][0-9]*_*.ipynb; do
   args=()
   if [ -f "tests/smoke/$name.yaml" ]; then args=(-f "tests/smoke/$name.yaml"); fi
   "$PY" -m papermill --log-level WARNING --prepare-only "$nb" "build/smoke/$name.ipynb" "${args[@]}"
-  case "$name" in 07_*|08_*) chain+=("build/smoke/$name.ipynb") ;; *) others+=("build/smoke/$name.ipynb") ;; esac
+  case "$name" in
+    07_*|08_*) chain+=("build/smoke/$name.ipynb") ;;
+    06c_*) late+=("build/smoke/$name.ipynb") ;;
+    *) others+=("build/smoke/$name.ipynb") ;;
+  esac
 done
 # (-p no:randomly: a test-order plugin left in a reused environment must not reorder the chain)
 pytest=("$PY" -m pytest --nbval-lax --nbval-current-env -p no:cacheprovider -p no:randomly)
@@ -51,20 +56,21 @@ status() { local rc=$1; if [ "$rc" = 5 ] && [ "$nargs" -gt 0 ]; then echo 0; els
 nargs=$#
 reports=()
 if [ "$workers" = 1 ]; then
-  "${pytest[@]}" --junitxml=build/test-logs/all.xml tests "${chain[@]}" "${others[@]}" "$@" && rc=0 || rc=$?
+  "${pytest[@]}" --junitxml=build/test-logs/all.xml tests "${chain[@]}" ${late[@]+"${late[@]}"} "${others[@]}" "$@" && rc=0 || rc=$?
   rc="$(status "$rc")"; reports+=("all=build/test-logs/all.xml=$rc")
 else
   chain_rc=0
   if [ ${#chain[@]} -gt 0 ]; then
     # its own session, so that an interrupted run also ends its kernels and Dask workers
     own_session=(); ! command -v setsid >/dev/null || own_session=(setsid -w)
-    ${own_session[@]+"${own_session[@]}"} "${pytest[@]}" --junitxml=build/test-logs/chain.xml "${chain[@]}" "$@" \
+    ${own_session[@]+"${own_session[@]}"} "${pytest[@]}" --junitxml=build/test-logs/chain.xml "${chain[@]}" ${late[@]+"${late[@]}"} \
+      tests/test_site.py "$@" \
       > build/test-logs/chain.log 2>&1 &
     chain_pid=$!
     trap 'kill -- -"$chain_pid" 2>/dev/null || true' EXIT INT TERM
-    echo "notebooks ${chain[*]##*/} run in a second process (log: build/test-logs/chain.log)"
+    echo "notebooks ${chain[*]##*/} ${late[*]##*/} and the site's build run in a second process (log: build/test-logs/chain.log)"
   fi
-  "${pytest[@]}" --junitxml=build/test-logs/main.xml tests "${others[@]}" "$@" && rc=0 || rc=$?
+  "${pytest[@]}" --junitxml=build/test-logs/main.xml tests --ignore=tests/test_site.py "${others[@]}" "$@" && rc=0 || rc=$?
   rc="$(status "$rc")"; reports+=("main=build/test-logs/main.xml=$rc")
   if [ ${#chain[@]} -gt 0 ]; then
     wait "$chain_pid" && chain_rc=0 || chain_rc=$?

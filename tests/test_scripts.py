@@ -117,18 +117,20 @@ def _test_sh_calls(tmp_path: Path, workers: str) -> list[list[str]]:
 
 
 def test_the_test_command_runs_notebooks_07_and_08_alone_and_in_order(tmp_path: Path) -> None:
-    """Two processes: notebook 08 reads what 07 stores, so the chain (07, then 08) has one process to itself and the other
-    process gets the unit tests (the new-range rerun of 07 among them) and every other notebook; no test-distribution
-    plugin is asked for."""
+    """Two processes: notebook 08 reads what 07 stores, so the chain (07, then 08) has one process, followed by 06c
+    (which reads only data/results/) and the site's build, to balance the two; the other process gets the other unit
+    tests (the new-range rerun of 07 among them) and every other notebook; no test-distribution plugin is asked for."""
     notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
     calls = _test_sh_calls(tmp_path, "2")  # the two processes run side by side: their lines come in either order
     assert len(calls) == 3
     *both, asserts = calls  # once both are done: did every notebook assert run under the smoke parameters?
     assert "tests/smoke_asserts_ran.py" in asserts and asserts[-1] == "-x"
     chain, main = sorted(both, key=lambda call: "tests" in call)
-    assert [Path(a).stem for a in chain if a.endswith(".ipynb")] == ["07_pso_codesign", "08_worst_case_mu"]
-    assert [Path(a).stem for a in main if a.endswith(".ipynb")] == [n for n in notebooks if not n.startswith(("07_", "08_"))]
+    assert [Path(a).stem for a in chain if a.endswith(".ipynb")] == ["07_pso_codesign", "08_worst_case_mu", "06c_pma_authority"]
+    assert [Path(a).stem for a in main if a.endswith(".ipynb")] == [n for n in notebooks if not n.startswith(("06c_", "07_", "08_"))]
     assert "tests" in main and "tests" not in chain
+    # the site's build runs once, after the chain's notebooks
+    assert chain[-2] == "tests/test_site.py" and "--ignore=tests/test_site.py" in main
     # the README's new-range rerun (two smoke runs of 07) is one of the unit tests, in the other process
     assert not any("test_new_h_range" in a for a in chain + main)
     assert chain[-1] == main[-1] == "-x"  # the caller's arguments reach both
@@ -140,6 +142,8 @@ def test_the_test_command_in_one_process_keeps_the_chain_in_order(tmp_path: Path
     assert "tests/smoke_asserts_ran.py" in asserts
     stems = [Path(a).stem for a in only if a.endswith(".ipynb")]
     assert stems.index("08_worst_case_mu") == stems.index("07_pso_codesign") + 1
+    assert sorted(stems) == sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
+    assert "tests" in only and not any("--ignore" in a for a in only)  # the site's test among the unit tests
 
 
 def test_pytest_runs_notebooks_in_the_order_given(tmp_path: Path) -> None:

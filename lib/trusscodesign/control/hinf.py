@@ -13,7 +13,7 @@ norm) and reduced once to complex Schur form, so each frequency costs one triang
 Hamiltonian eigenvalues (dense LAPACK ``geev``) count as imaginary if ``|Re l| <= 1e-4 |l|``, a
 deliberately loose test: a spurious candidate costs one evaluation (its intervals have
 ``sigma_max <= gamma``), a missed crossing stops the iteration too early. Near a tangency the
-computed crossings leave the axis by up to a few 1e-6 |l| on badly scaled dense realisations
+computed crossings leave the axis by up to a few ``1e-6 |l|`` on badly scaled dense realisations
 (tolerances 1e-6 or 1e-8 gave certified results up to 3e-5 too low). Every returned norm is an
 evaluated ``sigma_max``.
 """

@@ -27,7 +27,7 @@ def savefig(fig: plt.Figure, name: str, figures_dir: str | Path = "figures") -> 
 
 
 def magnitude_db(response: ArrayLike) -> np.ndarray:
-    """20 log10 |response| [dB], with exact zeros mapped to -400 dB."""
+    """``20 log10 |response|`` [dB], with exact zeros mapped to -400 dB."""
     mag = np.abs(np.asarray(response))
     return 20.0 * np.log10(np.maximum(mag, 1e-20))
 

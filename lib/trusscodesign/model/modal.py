@@ -34,9 +34,9 @@ class ModalParticipation:
     Attributes
     ----------
     omega : ndarray, shape (n,)
-        Natural frequencies |p_k| [rad/s], ascending.
+        Natural frequencies ``|p_k|`` [rad/s], ascending.
     damping : ndarray, shape (n,)
-        Damping ratios -Re(p_k)/|p_k|.
+        Damping ratios ``-Re(p_k) / |p_k|``.
     factors : ndarray, shape (n, 6)
         Participation factors at the port (sign of each row arbitrary).
     rank_one_residual : ndarray, shape (n,)

@@ -2,7 +2,7 @@
 
 Paper: section "System Reduction". Every 6-channel inversion that closes a
 kinematic loop leaves 12 poles at s = 0 that are uncontrollable or unobservable
-(``docs/titop.md`` section d); numerically they land at |s| ~ 1e-6..1e-3 on
+(``docs/titop.md`` section d); numerically they land at ``|s|`` ~ 1e-6..1e-3 on
 either side of the imaginary axis. They are selected here by *what they are*:
 the slow invariant subspace is split off with an ordered real Schur form and a
 Sylvester block-diagonalisation, and its input-output contribution is measured
@@ -34,7 +34,7 @@ class SlowSplit:
     fast : tuple of ndarray
         ``(A, B, C, D)`` of the model without the slow modes.
     n_slow : int
-        Number of removed poles (|s| < ``omega_min``).
+        Number of removed poles (``|s| < omega_min``).
     slow_poles : ndarray
         The removed poles [rad/s].
     contribution : float
@@ -108,7 +108,7 @@ def sylvester_general(t1: NDArray, t2: NDArray, rhs: NDArray) -> NDArray:
 
 
 def split_slow(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: float = 0.01) -> SlowSplit:
-    """Split a model into its slow (|s| < ``omega_min`` rad/s) and fast parts.
+    """Split a model into its slow (``|s| < omega_min`` rad/s) and fast parts.
 
     See :func:`_block_split`; the fast part keeps ``(T_f, B_f, C_f, D)`` exactly and
     the slow part's frequency response is measured before it is dropped.
@@ -153,7 +153,7 @@ def modal_reduction(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: f
                     omega_max: float | None = None, max_contribution: float = 1e-6) -> ModalReduction:
     """Modal reduction of the paper: ``G_r_low`` (``omega_max=None``) or ``G_r``.
 
-    The spurious slow poles (|s| < ``omega_min``) are removed after checking that they
+    The spurious slow poles (``|s| < omega_min``) are removed after checking that they
     carry no input-output contribution; the modes above ``omega_max`` [rad/s] are removed
     by residualisation (their static contribution ``-C_h A_h^-1 B_h`` is added to D), so
     that the DC gain, hence the mass seen by the model, is unchanged.
@@ -178,7 +178,7 @@ def modal_reduction(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_min: f
 def residualize_above(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_max: float) -> tuple[tuple[NDArray, NDArray, NDArray, NDArray], int]:
     """Residualise the modes above ``omega_max`` [rad/s] of a model without slow poles.
 
-    The modes with |s| > ``omega_max`` are split off (see :func:`_block_split`) and their static contribution
+    The modes with ``|s| > omega_max`` are split off (see :func:`_block_split`) and their static contribution
     ``-C_h A_h^-1 B_h`` is added to D, so that the DC gain is unchanged. For a model that
     :func:`modal_reduction` already freed of its spurious slow poles: reducing it again at several cut
     frequencies need not split (and check) the slow part each time. Returns ``((A, B, C, D), n_high)``.
@@ -191,7 +191,7 @@ def residualize_above(a: NDArray, b: NDArray, c: NDArray, d: NDArray, omega_max:
 
 
 def remove_slow_poles(model: MultiPortModel, omega_min: float = 0.01, max_contribution: float = 1e-6) -> MultiPortModel:
-    """Model without its spurious slow poles (|s| < ``omega_min``).
+    """Model without its spurious slow poles (``|s| < omega_min``).
 
     Raises
     ------

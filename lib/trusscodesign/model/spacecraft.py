@@ -364,7 +364,7 @@ def reduced_uncertain_model(h: float, omega_max: float | None = 500.0, omega_min
     """``F_u(G_r(h), Delta)``: the uncertain open loop at section side h, modally reduced.
 
     The certain part of :func:`open_loop` ``(h, uncertain=True)`` (its 40 Delta channels kept as
-    inputs and outputs, grouped by parameter) loses its spurious slow poles (|s| < ``omega_min``)
+    inputs and outputs, grouped by parameter) loses its spurious slow poles (``|s| < omega_min``)
     and, unless ``omega_max`` is None (``G_r_low``), its modes above ``omega_max`` [rad/s] by
     residualisation (paper: section "System Reduction"). Every uncertainty scenario is then a
     static closure of the Delta channels of this one reduced model.
