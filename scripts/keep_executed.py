@@ -64,6 +64,22 @@ def failed(nb: dict) -> bool:
     return any(o.get("output_type") == "error" for c in nb["cells"] for o in c.get("outputs", []))
 
 
+def finished(executed: Path, source: Path) -> bool:
+    """True if ``executed`` is a complete run of the current ``source``: same code, every cell run, none failed.
+
+    The main job's ``--resume`` skips such a notebook (a job stopped part way loses none of the notebooks it ran).
+    """
+    if not executed.is_file():
+        return False
+    try:
+        nb = json.loads(executed.read_text())
+    except json.JSONDecodeError:  # cut off while papermill was writing it
+        return False
+    code = [c for c in nb["cells"] if c["cell_type"] == "code"]
+    ran = all(c.get("metadata", {}).get("papermill", {}).get("status") == "completed" for c in code)
+    return ran and not failed(nb) and code_cells(nb) == code_cells(json.loads(source.read_text()))
+
+
 def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_dir: Path = RESULTS) -> list[Path]:
     """Copy every executed notebook of ``run_dir`` whose source is in ``notebooks`` to ``kept``; returns the copies.
 
@@ -94,8 +110,11 @@ def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_
 
 
 def main(argv: list[str]) -> int:
+    if len(argv) == 3 and argv[0] == "--finished":  # exit status 0 if argv[1] is a complete run of the notebook argv[2]
+        return 0 if finished(Path(argv[1]), Path(argv[2])) else 1
     if len(argv) != 1 or not Path(argv[0]).is_dir():
-        print("usage: python scripts/keep_executed.py RUN_DIR (the main job's runs/latest/notebooks)", file=sys.stderr)
+        print("usage: python scripts/keep_executed.py RUN_DIR (the main job's runs/latest/notebooks), or "
+              "--finished EXECUTED SOURCE", file=sys.stderr)
         return 2
     for path in keep(Path(argv[0])):
         print(f"kept {path.relative_to(ROOT)} ({path.stat().st_size / 1e6:.2f} MB)")

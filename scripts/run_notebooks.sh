@@ -4,6 +4,7 @@
 #   bash scripts/run_notebooks.sh                       # paper settings: figures/ and data/results/
 #   bash scripts/run_notebooks.sh --params p.yaml --out runs/my_study
 #   bash scripts/run_notebooks.sh --params study_dir/ --out runs/my_study
+#   bash scripts/run_notebooks.sh --resume                # after a stop: skips the notebooks already run to the end
 #
 # Executed copies go to <out>/notebooks (default runs/latest), each with an HTML copy beside it. With --out, figures and
 # results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched. Without --out and --params
@@ -12,17 +13,19 @@
 # notebook; the others ignore it), or a folder: its all.yaml (if any)
 # applies to every notebook, then NN_name.yaml (if any) to that notebook alone, overriding
 # all.yaml (the layout of tests/smoke/); a per-notebook file's names must be that notebook's, and a file named after
-# no notebook is refused (scripts/check_params.py). Several notebooks share parameter names with
+# no notebook is refused (scripts/check_params.py). --resume skips each notebook whose executed copy in the output
+# folder ran every cell of its current code without an error (give the same --out and --params as the stopped job). Several notebooks share parameter names with
 # different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
 set -euo pipefail
 PY="${PYTHON:-python3}"
-usage="use --out DIR, --params FILE.yaml|DIR, --no-install"
-out="" params=""
+usage="use --out DIR, --params FILE.yaml|DIR, --resume, --no-install"
+out="" params="" resume=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --out|--params) [ $# -ge 2 ] || { echo "$1 needs a value ($usage)" >&2; exit 2; }
                     [ "$1" = --out ] && out="$2" || params="$2"; shift 2 ;;
     --no-install) NO_INSTALL=1; shift ;;
+    --resume) resume=1; shift ;;
     *) echo "unknown argument $1 ($usage)" >&2; exit 2 ;;
   esac
 done
@@ -54,6 +57,10 @@ failed=()
 # byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
 export LC_COLLATE=C
 for nb in notebooks/[0-9][0-9]*_*.ipynb; do
+  if [ -n "$resume" ] && "$PY" scripts/keep_executed.py --finished "$nbdir/$(basename "$nb")" "$nb"; then
+    echo "== $nb: run to the end before, skipped (--resume)"
+    continue
+  fi
   echo "== $nb"
   own=()  # a parameter folder's files for this notebook: all.yaml, then its own (later files override earlier ones)
   if [ -d "$params" ]; then

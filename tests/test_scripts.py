@@ -275,3 +275,28 @@ def test_the_smoke_parameters_are_the_notebooks_own() -> None:
 
     module = load_script("check_params")
     assert module.problems(ROOT / "tests" / "smoke", module.declared()) == []
+
+
+def test_the_main_job_resumes_after_the_notebooks_it_ran_to_the_end(tmp_path: Path) -> None:
+    """--resume skips a notebook whose executed copy ran every cell of its current code (scripts/keep_executed.py
+    decides), and runs one whose copy was cut off."""
+    import json
+    import sys
+
+    run_dir = tmp_path / "run" / "notebooks"
+    run_dir.mkdir(parents=True)
+    notebooks = sorted((ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
+    for nb, status in ((notebooks[0], "completed"), (notebooks[1], "running")):
+        executed = json.loads(nb.read_text())
+        for cell in executed["cells"]:
+            cell.setdefault("metadata", {})["papermill"] = {"status": status}
+        (run_dir / nb.name).write_text(json.dumps(executed))
+    calls = tmp_path / "calls.txt"
+    # stands in for python: the resume check is the real script, papermill logs its input notebook
+    env = _fake(tmp_path, f'case "$1" in scripts/*) exec {sys.executable} "$@";; esac\n'
+                          f'[ "$2" != papermill ] || echo "$7" >> {calls}\n')
+    run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), "--resume"], cwd=ROOT,
+                         env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert [Path(line).name for line in calls.read_text().split()] == [nb.name for nb in notebooks[1:]]
+    assert f"{notebooks[0].name}: run to the end before, skipped (--resume)" in run.stdout

@@ -155,3 +155,25 @@ def test_the_link_check_finds_what_leads_nowhere(tmp_path: Path) -> None:
     (tmp_path / "docs" / "a.html").write_text('<a href="../b.html#x">b</a> <img src="fig.png"> <a href="https://example.org/">'
                                               '</a> <a href="#top"></a> <a href="mailto:x@y.z"></a>')
     assert _broken_links(tmp_path) == ["docs/a.html -> fig.png"]
+
+
+def test_a_finished_run_is_told_from_a_cut_off_stale_or_failed_one(tmp_path: Path) -> None:
+    source, executed = tmp_path / "01_a.ipynb", tmp_path / "run.ipynb"
+    source.write_text(json.dumps(_executed([_code("x = 1")])))
+
+    def run(src: str, status: str = "completed", outputs: list | None = None) -> None:
+        cell = _code(src, outputs)
+        cell["metadata"]["papermill"]["status"] = status
+        executed.write_text(json.dumps(_executed([cell])))
+
+    assert not keep.finished(executed, source)  # never run
+    run("x = 1")
+    assert keep.finished(executed, source)
+    run("x = 1", "running")
+    assert not keep.finished(executed, source)
+    run("x = 2")
+    assert not keep.finished(executed, source)
+    run("x = 1", outputs=[{"output_type": "error", "ename": "E", "evalue": "", "traceback": []}])
+    assert not keep.finished(executed, source)
+    executed.write_text('{"cells": [')  # cut off while written
+    assert not keep.finished(executed, source)
