@@ -16,7 +16,7 @@ sys.path.insert(0, str(ROOT / "lib"))
 
 project = "trusscodesign"
 author = "the trusscodesign authors"
-copyright = "the trusscodesign authors"  # noqa: A001 (Sphinx's name)
+copyright = "the trusscodesign authors"
 
 root_doc = "docs/index"
 include_patterns = [
@@ -27,6 +27,8 @@ include_patterns = [
     "notebooks/executed/*.ipynb",
     "benchmarks/README.md",
 ]
+# folders never read (include_patterns alone still walks them): the environment, the runs, the data, the code
+exclude_patterns = [".git", ".venv", "build", "runs", "data", "lib", "tests", "scripts", "figures", "notebooks/*.ipynb"]
 
 extensions = [
     "myst_nb",

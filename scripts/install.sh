@@ -17,7 +17,7 @@ if ! { grep -q 'libblas\.so\.3' <<<"$libs" && grep -q 'liblapack\.so\.3' <<<"$li
 fi
 if ! "$PY" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))'; then
   echo "requirements.lock is resolved for Python 3.11, and $PY is Python $("$PY" -c 'import sys; print(sys.version.split()[0])'):" \
-       "run PYTHON=python3.11 bash scripts/install.sh, or install without the lock: pip install '.[cluster,fe,notebooks,test]'" >&2
+       "run PYTHON=python3.11 bash scripts/install.sh, or install without the lock: pip install '.[cluster,docs,fe,notebooks,test]'" >&2
   exit 2
 fi
 "$PY" -m pip install --disable-pip-version-check -q -r requirements.lock

@@ -55,8 +55,10 @@ def clean(nb: dict, name: str, results_dir: Path = RESULTS) -> dict:
 
 
 def code_cells(nb: dict) -> list[str]:
-    """The source of each code cell, in order (what a kept copy must share with its notebook)."""
-    return ["".join(c["source"]) if isinstance(c["source"], list) else c["source"] for c in nb["cells"] if c["cell_type"] == "code"]
+    """The source of each code cell, in order, papermill's injected parameters left out (what a kept copy must share
+    with its notebook)."""
+    return ["".join(c["source"]) if isinstance(c["source"], list) else c["source"] for c in nb["cells"]
+            if c["cell_type"] == "code" and "injected-parameters" not in c.get("metadata", {}).get("tags", [])]
 
 
 def failed(nb: dict) -> bool:
@@ -64,44 +66,56 @@ def failed(nb: dict) -> bool:
     return any(o.get("output_type") == "error" for c in nb["cells"] for o in c.get("outputs", []))
 
 
-def finished(executed: Path, source: Path) -> bool:
-    """True if ``executed`` is a complete run of the current ``source``: same code, every cell run, none failed.
+def problem(nb: dict, source: dict) -> str | None:
+    """Why the executed notebook ``nb`` is not a complete run of the notebook ``source``'s current code, or None.
 
-    The main job's ``--resume`` skips such a notebook (a job stopped part way loses none of the notebooks it ran).
+    A cell whose kernel died has no execution count (papermill marks it completed, with no error), nor has any cell
+    after a stop.
     """
-    if not executed.is_file():
-        return False
+    if code_cells(nb) != code_cells(source):
+        return "it was executed from another version of the notebook's code"
+    if failed(nb):
+        return "a cell failed (see its error cell)"
+    code = [c for c in nb["cells"] if c["cell_type"] == "code" and "".join(c["source"]).strip()]
+    if any(c.get("execution_count") is None or c.get("metadata", {}).get("papermill", {}).get("status", "completed")
+           != "completed" for c in code):
+        return "a cell did not run to its end (the run was stopped or its kernel died)"
+    return None
+
+
+def _read(path: Path) -> dict | None:
     try:
-        nb = json.loads(executed.read_text())
-    except json.JSONDecodeError:  # cut off while papermill was writing it
-        return False
-    code = [c for c in nb["cells"] if c["cell_type"] == "code"]
-    ran = all(c.get("metadata", {}).get("papermill", {}).get("status") == "completed" for c in code)
-    return ran and not failed(nb) and code_cells(nb) == code_cells(json.loads(source.read_text()))
+        return json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError):  # missing, or cut off while papermill was writing it
+        return None
+
+
+def finished(executed: Path, source: Path) -> bool:
+    """True if ``executed`` is a complete run of the current ``source`` (:func:`problem` finds nothing): the main job's
+    ``--resume`` skips such a notebook."""
+    nb = _read(executed)
+    return nb is not None and problem(nb, json.loads(source.read_text())) is None
 
 
 def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_dir: Path = RESULTS) -> list[Path]:
-    """Copy every executed notebook of ``run_dir`` whose source is in ``notebooks`` to ``kept``; returns the copies.
-
-    A notebook that failed (an error cell) is not kept: its earlier kept copy, if any, stays, and a line on standard
-    error names it.
-
-    Raises
-    ------
-    ValueError
-        If an executed notebook's code differs from its source (a copy from another version of the notebook).
+    """Copy every complete executed notebook of ``run_dir`` whose source is in ``notebooks`` to ``kept``; returns the
+    copies. A notebook that is not a complete run of its current code (:func:`problem`) is not kept: its earlier kept
+    copy, if any, stays, and a line on standard error says why. A kept copy whose notebook no longer exists is removed.
     """
     kept.mkdir(parents=True, exist_ok=True)
+    for old in sorted(kept.glob("*.ipynb")):
+        if not (notebooks / old.name).is_file():
+            old.unlink()
+            print(f"removed {old.name}: no such notebook", file=sys.stderr)
     written = []
     for path in sorted(run_dir.glob("[0-9][0-9]*_*.ipynb")):
         source = notebooks / path.name
         if not source.is_file():
             continue
-        nb = json.loads(path.read_text())
-        if code_cells(nb) != code_cells(json.loads(source.read_text())):
-            raise ValueError(f"{path} was not executed from the current {source}: rerun the main job")
-        if failed(nb):
-            print(f"not kept: {path.name} failed (see its error cell)", file=sys.stderr)
+        nb = _read(path)
+        why = "it cannot be read" if nb is None else problem(nb, json.loads(source.read_text()))
+        if nb is None or why is not None:
+            print(f"not kept: {path.name}: {why}", file=sys.stderr)
             continue
         text = json.dumps(clean(nb, path.stem, results_dir), indent=1, ensure_ascii=False) + "\n"
         (kept / path.name).write_text(text)

@@ -4,7 +4,7 @@
 #   bash scripts/run_notebooks.sh                       # paper settings: figures/ and data/results/
 #   bash scripts/run_notebooks.sh --params p.yaml --out runs/my_study
 #   bash scripts/run_notebooks.sh --params study_dir/ --out runs/my_study
-#   bash scripts/run_notebooks.sh --resume                # after a stop: skips the notebooks already run to the end
+#   bash scripts/run_notebooks.sh --resume                # after a stop: skips the notebooks this job ran to the end
 #
 # Executed copies go to <out>/notebooks (default runs/latest), each with an HTML copy beside it. With --out, figures and
 # results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched. Without --out and --params
@@ -13,8 +13,10 @@
 # notebook; the others ignore it), or a folder: its all.yaml (if any)
 # applies to every notebook, then NN_name.yaml (if any) to that notebook alone, overriding
 # all.yaml (the layout of tests/smoke/); a per-notebook file's names must be that notebook's, and a file named after
-# no notebook is refused (scripts/check_params.py). --resume skips each notebook whose executed copy in the output
-# folder ran every cell of its current code without an error (give the same --out and --params as the stopped job). Several notebooks share parameter names with
+# no notebook is refused (scripts/check_params.py). --resume continues the job stopped in the output folder (give the
+# same --out and --params): it skips the notebooks, from the first on, that this job ran to the end with their current
+# code (an executed copy newer than the job's start, every cell run, none failed: scripts/keep_executed.py), and runs
+# every notebook from the first one that was not, since a later notebook may read an earlier one's results. Several notebooks share parameter names with
 # different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
 set -euo pipefail
 PY="${PYTHON:-python3}"
@@ -51,16 +53,25 @@ else
 fi
 [ -z "$params" ] || [ -d "$params" ] || extra+=(-f "$params")
 mkdir -p "$nbdir"
+stamp="$nbdir/.job-start"  # when the job began: a resumed job skips only copies it wrote itself
+if [ -z "$resume" ]; then
+  touch "$stamp"
+elif [ ! -f "$stamp" ]; then
+  echo "no stopped job to resume in $nbdir (no $stamp): run without --resume" >&2; exit 2
+fi
+skipping="$resume"
 # A notebook whose final checks fail (e.g. notebook 07's PSO-versus-grid check) has already saved its results and
 # figures: the later notebooks still run, and the job exits non-zero at the end naming the failed ones.
 failed=()
 # byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
 export LC_COLLATE=C
 for nb in notebooks/[0-9][0-9]*_*.ipynb; do
-  if [ -n "$resume" ] && "$PY" scripts/keep_executed.py --finished "$nbdir/$(basename "$nb")" "$nb"; then
-    echo "== $nb: run to the end before, skipped (--resume)"
+  copy="$nbdir/$(basename "$nb")"
+  if [ -n "$skipping" ] && [ "$copy" -nt "$stamp" ] && "$PY" scripts/keep_executed.py --finished "$copy" "$nb"; then
+    echo "== $nb: run to the end by this job, skipped (--resume)"
     continue
   fi
+  skipping=""
   echo "== $nb"
   own=()  # a parameter folder's files for this notebook: all.yaml, then its own (later files override earlier ones)
   if [ -d "$params" ]; then
@@ -74,7 +85,9 @@ for nb in notebooks/[0-9][0-9]*_*.ipynb; do
 done
 echo "executed notebooks in $nbdir"
 # the paper's run (no --out, no --params) is the one kept with the project: notebooks/executed/ (scripts/keep_executed.py)
-if [ -z "$out" ] && [ -z "$params" ]; then "$PY" scripts/keep_executed.py "$nbdir"; fi
+if [ -z "$out" ] && [ -z "$params" ]; then
+  "$PY" scripts/keep_executed.py "$nbdir" || echo "warning: the executed copies were not kept (see above)" >&2
+fi
 if [ ${#failed[@]} -gt 0 ]; then
   echo "FAILED (see the error cell of each executed copy in $nbdir): ${failed[*]}" >&2
   exit 1

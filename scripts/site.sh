@@ -23,6 +23,10 @@ cd "$(dirname "$0")/.."
 out="${out:-$PWD/build/site}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
 export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
+# the output folder is replaced: refuse one that holds anything but an earlier build (never the checkout or build/)
+if [ -e "$out" ] && [ ! -f "$out/.buildinfo" ] && [ -n "$(ls -A "$out" 2>/dev/null || echo file)" ]; then
+  echo "--out $out exists and is no earlier build of the site (no .buildinfo): give a new or empty folder" >&2; exit 2
+fi
 # autosummary's pages are regenerated from the package every time (a removed module leaves no page behind)
 rm -rf docs/api "$out"
 "$PY" -m sphinx -b html -c docs -W --keep-going -q -d "$out/.doctrees" . "$out"

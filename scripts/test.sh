@@ -60,25 +60,21 @@ if [ "$workers" = 1 ]; then
   rc="$(status "$rc")"; reports+=("all=build/test-logs/all.xml=$rc")
 else
   chain_rc=0
-  if [ ${#chain[@]} -gt 0 ]; then
-    # its own session, so that an interrupted run also ends its kernels and Dask workers
-    own_session=(); ! command -v setsid >/dev/null || own_session=(setsid -w)
-    ${own_session[@]+"${own_session[@]}"} "${pytest[@]}" --junitxml=build/test-logs/chain.xml "${chain[@]}" ${late[@]+"${late[@]}"} \
-      tests/test_site.py "$@" \
-      > build/test-logs/chain.log 2>&1 &
-    chain_pid=$!
-    trap 'kill -- -"$chain_pid" 2>/dev/null || true' EXIT INT TERM
-    echo "notebooks ${chain[*]##*/} ${late[*]##*/} and the site's build run in a second process (log: build/test-logs/chain.log)"
-  fi
+  # the second process always runs: the site's build at least (the first one leaves tests/test_site.py out)
+  # its own session, so that an interrupted run also ends its kernels and Dask workers
+  own_session=(); ! command -v setsid >/dev/null || own_session=(setsid -w)
+  ${own_session[@]+"${own_session[@]}"} "${pytest[@]}" --junitxml=build/test-logs/chain.xml ${chain[@]+"${chain[@]}"} \
+    ${late[@]+"${late[@]}"} tests/test_site.py "$@" > build/test-logs/chain.log 2>&1 &
+  chain_pid=$!
+  trap 'kill -- -"$chain_pid" 2>/dev/null || true' EXIT INT TERM
+  echo "notebooks ${chain[*]##*/} ${late[*]##*/} and the site's build run in a second process (log: build/test-logs/chain.log)"
   "${pytest[@]}" --junitxml=build/test-logs/main.xml tests --ignore=tests/test_site.py "${others[@]}" "$@" && rc=0 || rc=$?
   rc="$(status "$rc")"; reports+=("main=build/test-logs/main.xml=$rc")
-  if [ ${#chain[@]} -gt 0 ]; then
-    wait "$chain_pid" && chain_rc=0 || chain_rc=$?
-    trap - EXIT INT TERM
-    chain_rc="$(status "$chain_rc")"; reports+=("chain=build/test-logs/chain.xml=$chain_rc")
-    echo "== the notebook chain (${chain[*]##*/}), exit status $chain_rc:"
-    cat build/test-logs/chain.log
-  fi
+  wait "$chain_pid" && chain_rc=0 || chain_rc=$?
+  trap - EXIT INT TERM
+  chain_rc="$(status "$chain_rc")"; reports+=("chain=build/test-logs/chain.xml=$chain_rc")
+  echo "== the second process (${chain[*]##*/} ${late[*]##*/}, the site), exit status $chain_rc:"
+  cat build/test-logs/chain.log
   [ "$chain_rc" = 0 ] || [ "$rc" != 0 ] || rc=$chain_rc
 fi
 # after every notebook: did each of their asserts run under the smoke parameters?

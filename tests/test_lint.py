@@ -1,5 +1,5 @@
-"""Lint and types: ruff with the project's rules (``pyproject.toml``) over the library, tests, benchmarks, scripts and
-notebooks; mypy over the library, benchmarks and scripts (annotations are checked, not decoration)."""
+"""Lint and types: ruff with the project's rules (``pyproject.toml``) over the library, tests, benchmarks, scripts, the
+site's configuration and the notebooks; mypy over the library, benchmarks and scripts (annotations are checked, not decoration)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).parents[1]
-TARGETS = ["lib", "tests", "benchmarks", "scripts", "notebooks"]
+TARGETS = ["lib", "tests", "benchmarks", "scripts", "docs", "notebooks"]
 
 
 def _ruff(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:

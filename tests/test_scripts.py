@@ -278,25 +278,50 @@ def test_the_smoke_parameters_are_the_notebooks_own() -> None:
 
 
 def test_the_main_job_resumes_after_the_notebooks_it_ran_to_the_end(tmp_path: Path) -> None:
-    """--resume skips a notebook whose executed copy ran every cell of its current code (scripts/keep_executed.py
-    decides), and runs one whose copy was cut off."""
+    """--resume skips the notebooks, from the first on, that the stopped job ran to the end (a copy newer than the
+    job's start, every cell run: scripts/keep_executed.py decides; papermill's injected parameters do not count as
+    code), and runs everything from the first one that was not: a copy cut off, or older than the job."""
     import json
     import sys
 
     run_dir = tmp_path / "run" / "notebooks"
     run_dir.mkdir(parents=True)
     notebooks = sorted((ROOT / "notebooks").glob("[0-9][0-9]*_*.ipynb"))
-    for nb, status in ((notebooks[0], "completed"), (notebooks[1], "running")):
-        executed = json.loads(nb.read_text())
-        for cell in executed["cells"]:
+    stamp = run_dir / ".job-start"
+    stamp.touch()
+    os.utime(stamp, (1e9, 1e9))
+
+    def executed(nb: Path, status: str = "completed", mtime: float | None = None) -> None:
+        copy = json.loads(nb.read_text())
+        for i, cell in enumerate(copy["cells"]):
             cell.setdefault("metadata", {})["papermill"] = {"status": status}
-        (run_dir / nb.name).write_text(json.dumps(executed))
+            cell["execution_count"] = i + 1
+        injected = {"cell_type": "code", "execution_count": 0, "metadata": {"tags": ["injected-parameters"],
+                    "papermill": {"status": "completed"}}, "outputs": [], "source": "results_dir = 'x'"}
+        copy["cells"].insert(1, injected)
+        (run_dir / nb.name).write_text(json.dumps(copy))
+        if mtime is not None:
+            os.utime(run_dir / nb.name, (mtime, mtime))
+
+    executed(notebooks[0])
+    executed(notebooks[1], "running")  # cut off: rerun, and every notebook after it
+    executed(notebooks[2])
     calls = tmp_path / "calls.txt"
     # stands in for python: the resume check is the real script, papermill logs its input notebook
     env = _fake(tmp_path, f'case "$1" in scripts/*) exec {sys.executable} "$@";; esac\n'
                           f'[ "$2" != papermill ] || echo "$7" >> {calls}\n')
-    run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), "--resume"], cwd=ROOT,
-                         env=env, capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
-    assert [Path(line).name for line in calls.read_text().split()] == [nb.name for nb in notebooks[1:]]
-    assert f"{notebooks[0].name}: run to the end before, skipped (--resume)" in run.stdout
+
+    def resume() -> list[str]:
+        calls.unlink(missing_ok=True)
+        run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), "--resume"], cwd=ROOT,
+                             env=env, capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+        return [Path(line).name for line in calls.read_text().split()]
+
+    assert resume() == [nb.name for nb in notebooks[1:]]
+    executed(notebooks[0], mtime=1e8)  # written before the job began: an older job's copy
+    assert resume() == [nb.name for nb in notebooks]
+    stamp.unlink()
+    run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), "--resume"], cwd=ROOT, env=env,
+                         capture_output=True, text=True)
+    assert run.returncode == 2 and "no stopped job to resume" in run.stderr

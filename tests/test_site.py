@@ -45,6 +45,12 @@ def test_every_notebook_is_kept_executed_from_its_current_code(source: Path) -> 
     assert "papermill" not in nb["metadata"] and not any("execution" in c.get("metadata", {}) for c in nb["cells"])
 
 
+def test_every_kept_copy_has_its_notebook() -> None:
+    """A renamed or removed notebook leaves no kept copy behind (the site would still publish it)."""
+    kept = sorted(p.name for p in (ROOT / "notebooks" / "executed").glob("*.ipynb"))
+    assert kept == sorted(p.name for p in NOTEBOOKS)
+
+
 @pytest.mark.parametrize("source", NOTEBOOKS, ids=lambda p: p.stem)
 def test_kept_copies_come_from_the_run_that_wrote_the_stored_results(source: Path) -> None:
     """The hashes a kept copy recorded are those of ``data/results/`` now: a notebook rerun (or a stored result
@@ -67,7 +73,7 @@ def _code(src: str, outputs: list | None = None) -> dict:
 
 def test_keep_cleans_links_and_metadata_and_refuses_a_stale_or_failed_copy(tmp_path: Path) -> None:
     """The checks above can fail, and the copy is what a reader needs: timestamps gone, links one level deeper,
-    the stored results hashed; another version's copy is refused, a failed one is not kept."""
+    the stored results hashed; another version's copy and a failed one are not kept, a removed notebook's copy goes."""
     src, run, kept, results = (tmp_path / d for d in ("notebooks", "run", "kept", "results"))
     for d in (src, run, results):
         d.mkdir()
@@ -84,11 +90,13 @@ def test_keep_cleans_links_and_metadata_and_refuses_a_stale_or_failed_copy(tmp_p
     assert nb["cells"][1]["metadata"] == {} and "papermill" not in nb["metadata"]
     assert keep.keep(run, kept, src, results)[0].read_bytes() == path.read_bytes()  # a rerun changes no byte
     (src / "01_a.ipynb").write_text(json.dumps(_executed([md, _code("x = 2")])))
-    with pytest.raises(ValueError, match="not executed from the current"):
-        keep.keep(run, kept, src, results)
+    assert keep.keep(run, kept, src, results) == [] and path.is_file()  # another version's copy: the old one stays
     error = {"output_type": "error", "ename": "E", "evalue": "", "traceback": []}
     (run / "01_a.ipynb").write_text(json.dumps(_executed([md, _code("x = 2", [error])])))
     assert keep.keep(run, kept, src, results) == []
+    (src / "01_a.ipynb").unlink()
+    keep.keep(run, kept, src, results)
+    assert not path.exists()  # its notebook is gone: so is its copy
 
 
 def _public_objects() -> dict[str, list[str]]:
@@ -169,6 +177,10 @@ def test_a_finished_run_is_told_from_a_cut_off_stale_or_failed_one(tmp_path: Pat
     assert not keep.finished(executed, source)  # never run
     run("x = 1")
     assert keep.finished(executed, source)
+    died = json.loads(executed.read_text())
+    died["cells"][0]["execution_count"] = None  # its kernel died in the cell: papermill says completed, no error
+    executed.write_text(json.dumps(died))
+    assert not keep.finished(executed, source)
     run("x = 1", "running")
     assert not keep.finished(executed, source)
     run("x = 2")
@@ -177,3 +189,11 @@ def test_a_finished_run_is_told_from_a_cut_off_stale_or_failed_one(tmp_path: Pat
     assert not keep.finished(executed, source)
     executed.write_text('{"cells": [')  # cut off while written
     assert not keep.finished(executed, source)
+
+
+def test_the_site_refuses_to_replace_a_folder_that_is_not_a_site(tmp_path: Path) -> None:
+    (tmp_path / "keep.txt").write_text("mine")
+    run = subprocess.run(["bash", str(ROOT / "scripts" / "site.sh"), "--no-install", "--out", str(tmp_path)],
+                         capture_output=True, text=True, env={**os.environ, "PYTHON": sys.executable})
+    assert run.returncode == 2 and "is no earlier build of the site" in run.stderr
+    assert (tmp_path / "keep.txt").read_text() == "mine"
