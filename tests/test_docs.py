@@ -136,3 +136,25 @@ def test_the_reference_patterns() -> None:
     assert [m.group(0) for m in COMMIT.finditer("ids 1234567 and abcdefa, dec0de12")] == ["dec0de12"]
     assert _missing_paths("README.md", "see `lib/trusscodesign/nope.py` and [x](docs/titop.md)") == ["README.md: lib/trusscodesign/nope.py"]
     assert _missing_paths("notebooks/x.ipynb", "`data/results/` and `build/smoke/x.ipynb` and [r](../docs/results.md)") == []
+
+
+GLOSSARY_TERMS = ("ACS", "Ball trust region", "f^n", "G, G_r, G_r_low", "J_c", "Least-change restoration", "Lever", "LOS",
+                  "NINOP", "p~, W~u", "PMA", "Preset", "Recipe", "RPE", "SADM", "TITOP", "Z_c")
+
+
+def test_the_glossary_defines_every_term_the_pages_use() -> None:
+    """Each term a newcomer meets in the README, the notebooks and the results page has its entry (a bold head)."""
+    text = (ROOT / "docs" / "glossary.md").read_text()
+    heads = re.findall(r"^\*\*(.+?)\*\*", text, flags=re.M)
+    missing = [t for t in GLOSSARY_TERMS if not any(h == t or h.startswith(t + " ") or h.startswith(t + ",") for h in heads)]
+    assert not missing, f"terms without a glossary entry: {missing}"
+
+
+def test_the_paper_map_has_every_figure_and_table() -> None:
+    """docs/paper.md has a row for each of the paper's 16 figures and 7 tables, each naming a notebook section and
+    a verdict."""
+    rows = [line.split(" | ") for line in (ROOT / "docs" / "paper.md").read_text().splitlines()
+            if line.startswith(("| Fig. ", "| Table "))]
+    names = [r[0].lstrip("| ") for r in rows]
+    assert names == [f"Fig. {k}" for k in range(1, 17)] + [f"Table {k}" for k in range(1, 8)]
+    assert all(len(r) == 5 and re.search(r"\d\d", r[2]) and r[4].strip(" |") for r in rows)
