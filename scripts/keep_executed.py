@@ -1,7 +1,7 @@
 """Keep the main job's executed notebooks with the project, in ``notebooks/executed/``, for readers and for the site.
 
-``python scripts/keep_executed.py RUN_DIR`` copies each executed notebook of ``RUN_DIR`` (the main job's
-``runs/latest/notebooks``) to ``notebooks/executed/``, with:
+``python scripts/keep_executed.py RUN_DIR [NOTEBOOK ...]`` copies each executed notebook of ``RUN_DIR`` (the main
+job's ``runs/latest/notebooks``; only the notebooks named, if any: those the job ran) to ``notebooks/executed/``, with:
 
 - the volatile metadata removed (papermill's and the kernel's timestamps and durations), so that a rerun that
   reproduces the same outputs changes no byte (the figures are deterministic PNGs);
@@ -97,9 +97,10 @@ def finished(executed: Path, source: Path) -> bool:
     return nb is not None and problem(nb, json.loads(source.read_text())) is None
 
 
-def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_dir: Path = RESULTS) -> list[Path]:
-    """Copy every complete executed notebook of ``run_dir`` whose source is in ``notebooks`` to ``kept``; returns the
-    copies. A notebook that is not a complete run of its current code (:func:`problem`) is not kept: its earlier kept
+def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_dir: Path = RESULTS,
+         names: list[str] | None = None) -> list[Path]:
+    """Copy every complete executed notebook of ``run_dir`` whose source is in ``notebooks`` (those of ``names``, the
+    notebooks a job ran, if given) to ``kept``; returns the copies. A notebook that is not a complete run of its current code (:func:`problem`) is not kept: its earlier kept
     copy, if any, stays, and a line on standard error says why. A kept copy whose notebook no longer exists is removed.
     """
     kept.mkdir(parents=True, exist_ok=True)
@@ -110,7 +111,7 @@ def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_
     written = []
     for path in sorted(run_dir.glob("[0-9][0-9]*_*.ipynb")):
         source = notebooks / path.name
-        if not source.is_file():
+        if not source.is_file() or (names is not None and path.stem not in names):
             continue
         nb = _read(path)
         why = "it cannot be read" if nb is None else problem(nb, json.loads(source.read_text()))
@@ -126,11 +127,11 @@ def keep(run_dir: Path, kept: Path = KEPT, notebooks: Path = NOTEBOOKS, results_
 def main(argv: list[str]) -> int:
     if len(argv) == 3 and argv[0] == "--finished":  # exit status 0 if argv[1] is a complete run of the notebook argv[2]
         return 0 if finished(Path(argv[1]), Path(argv[2])) else 1
-    if len(argv) != 1 or not Path(argv[0]).is_dir():
-        print("usage: python scripts/keep_executed.py RUN_DIR (the main job's runs/latest/notebooks), or "
-              "--finished EXECUTED SOURCE", file=sys.stderr)
+    if not argv or not Path(argv[0]).is_dir():
+        print("usage: python scripts/keep_executed.py RUN_DIR [NOTEBOOK ...] (the main job's runs/latest/notebooks, and "
+              "the notebooks it ran, default all), or --finished EXECUTED SOURCE", file=sys.stderr)
         return 2
-    for path in keep(Path(argv[0])):
+    for path in keep(Path(argv[0]), names=argv[1:] or None):
         print(f"kept {path.relative_to(ROOT)} ({path.stat().st_size / 1e6:.2f} MB)")
     return 0
 

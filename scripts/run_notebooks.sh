@@ -5,6 +5,7 @@
 #   bash scripts/run_notebooks.sh --params p.yaml --out runs/my_study
 #   bash scripts/run_notebooks.sh --params study_dir/ --out runs/my_study
 #   bash scripts/run_notebooks.sh --resume                # after a stop: skips the notebooks this job ran to the end
+#   bash scripts/run_notebooks.sh --only 04b_large_trusses,08_worst_case_mu   # these notebooks alone, in order
 #
 # Executed copies go to <out>/notebooks (default runs/latest), each with an HTML copy beside it. With --out, figures and
 # results JSON go to <out>/figures and <out>/results, leaving the committed ones untouched. Without --out and --params
@@ -16,16 +17,18 @@
 # no notebook is refused (scripts/check_params.py). --resume continues the job stopped in the output folder (give the
 # same --out and --params): it skips the notebooks, from the first on, that this job ran to the end with their current
 # code (an executed copy newer than the job's start, every cell run, none failed: scripts/keep_executed.py), and runs
-# every notebook from the first one that was not, since a later notebook may read an earlier one's results. Several notebooks share parameter names with
-# different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
+# every notebook from the first one that was not, since a later notebook may read an earlier one's results. --only
+# runs the notebooks named (comma-separated, without .ipynb), in order, and keeps only those: whether one of them reads
+# another notebook's results, and whether that one is up to date, is then the caller's to judge. Several notebooks
+# share parameter names with different meanings (h, n_grid, h_values, n_compare, seed, ...): give those per notebook.
 set -euo pipefail
 PY="${PYTHON:-python3}"
-usage="use --out DIR, --params FILE.yaml|DIR, --resume, --no-install"
-out="" params="" resume=""
+usage="use --out DIR, --params FILE.yaml|DIR, --resume, --only NAME[,NAME...], --no-install"
+out="" params="" resume="" only=""
 while [ $# -gt 0 ]; do
   case "$1" in
-    --out|--params) [ $# -ge 2 ] || { echo "$1 needs a value ($usage)" >&2; exit 2; }
-                    [ "$1" = --out ] && out="$2" || params="$2"; shift 2 ;;
+    --out|--params|--only) [ $# -ge 2 ] || { echo "$1 needs a value ($usage)" >&2; exit 2; }
+                    case "$1" in --out) out="$2" ;; --params) params="$2" ;; *) only="$2" ;; esac; shift 2 ;;
     --no-install) NO_INSTALL=1; shift ;;
     --resume) resume=1; shift ;;
     *) echo "unknown argument $1 ($usage)" >&2; exit 2 ;;
@@ -35,7 +38,20 @@ done
 case "$out" in ""|/*) ;; *) out="$PWD/$out" ;; esac
 case "$params" in ""|/*) ;; *) params="$PWD/$params" ;; esac
 [ -z "$params" ] || [ -e "$params" ] || { echo "no parameter file or folder $params" >&2; exit 2; }
+[ -z "$resume" ] || [ -z "$only" ] || { echo "--resume and --only exclude each other ($usage)" >&2; exit 2; }
 cd "$(dirname "$0")/.."
+export LC_COLLATE=C  # byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
+notebooks=(notebooks/[0-9][0-9]*_*.ipynb)
+if [ -n "$only" ]; then
+  chosen=()
+  for name in ${only//,/ }; do
+    [ -f "notebooks/$name.ipynb" ] || { echo "--only: no notebook $name; the notebooks are: $(basename -a -s .ipynb "${notebooks[@]}" | tr '\n' ' ')" >&2; exit 2; }
+  done
+  for nb in "${notebooks[@]}"; do
+    case ",$only," in *",$(basename "$nb" .ipynb),"*) chosen+=("$nb") ;; esac
+  done
+  notebooks=("${chosen[@]}")
+fi
 # the kernels (run in notebooks/) import this checkout's package, whatever checkout is installed in editable mode
 export PYTHONPATH="$PWD/lib${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${NO_INSTALL:-}" ] || bash scripts/install.sh
@@ -54,19 +70,18 @@ fi
 [ -z "$params" ] || [ -d "$params" ] || extra+=(-f "$params")
 mkdir -p "$nbdir"
 stamp="$nbdir/.job-start"  # when the job began: a resumed job skips only copies it wrote itself
-if [ -z "$resume" ]; then
+if [ -z "$resume" ] && [ -z "$only" ]; then
   touch "$stamp"
-elif [ ! -f "$stamp" ]; then
+elif [ -n "$resume" ] && [ ! -f "$stamp" ]; then
   echo "no stopped job to resume in $nbdir (no $stamp): run without --resume" >&2; exit 2
 fi
 skipping="$resume"
 # A notebook whose final checks fail (e.g. notebook 07's PSO-versus-grid check) has already saved its results and
 # figures: the later notebooks still run, and the job exits non-zero at the end naming the failed ones.
-failed=()
-# byte order, whatever the locale (en_US sorts 06b_ before 06_: it ignores '_')
-export LC_COLLATE=C
-for nb in notebooks/[0-9][0-9]*_*.ipynb; do
+failed=() ours=()  # ours: the notebooks this job ran or, resumed, had run (the ones to keep)
+for nb in "${notebooks[@]}"; do
   copy="$nbdir/$(basename "$nb")"
+  ours+=("$(basename "$nb" .ipynb)")
   if [ -n "$skipping" ] && [ "$copy" -nt "$stamp" ] && "$PY" scripts/keep_executed.py --finished "$copy" "$nb"; then
     echo "== $nb: run to the end by this job, skipped (--resume)"
     continue
@@ -86,7 +101,7 @@ done
 echo "executed notebooks in $nbdir"
 # the paper's run (no --out, no --params) is the one kept with the project: notebooks/executed/ (scripts/keep_executed.py)
 if [ -z "$out" ] && [ -z "$params" ]; then
-  "$PY" scripts/keep_executed.py "$nbdir" || echo "warning: the executed copies were not kept (see above)" >&2
+  "$PY" scripts/keep_executed.py "$nbdir" "${ours[@]}" || echo "warning: the executed copies were not kept (see above)" >&2
 fi
 if [ ${#failed[@]} -gt 0 ]; then
   echo "FAILED (see the error cell of each executed copy in $nbdir): ${failed[*]}" >&2

@@ -325,3 +325,19 @@ def test_the_main_job_resumes_after_the_notebooks_it_ran_to_the_end(tmp_path: Pa
     run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), "--resume"], cwd=ROOT, env=env,
                          capture_output=True, text=True)
     assert run.returncode == 2 and "no stopped job to resume" in run.stderr
+
+
+def test_the_main_job_runs_only_the_notebooks_named(tmp_path: Path) -> None:
+    """--only runs the notebooks named, in the project's order whatever the order given; an unknown name, or --only with
+    --resume, is refused before anything runs."""
+    calls = tmp_path / "calls.txt"
+    env = _fake(tmp_path, f'[ "$2" != papermill ] || echo "$7" >> {calls}\n')
+    run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), "--only",
+                          "08_worst_case_mu,04_t_truss_spacecraft"], cwd=ROOT, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert [Path(line).name for line in calls.read_text().split()] == ["04_t_truss_spacecraft.ipynb", "08_worst_case_mu.ipynb"]
+    for args, message in ((["--only", "04_truss"], "--only: no notebook 04_truss; the notebooks are: 01_titop_beam"),
+                          (["--only", "08_worst_case_mu", "--resume"], "--resume and --only exclude each other")):
+        run = subprocess.run(["bash", "scripts/run_notebooks.sh", "--out", str(tmp_path / "run"), *args], cwd=ROOT, env=env,
+                             capture_output=True, text=True)
+        assert run.returncode == 2 and message in run.stderr, run.stderr

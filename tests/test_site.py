@@ -94,6 +94,9 @@ def test_keep_cleans_links_and_metadata_and_refuses_a_stale_or_failed_copy(tmp_p
     error = {"output_type": "error", "ename": "E", "evalue": "", "traceback": []}
     (run / "01_a.ipynb").write_text(json.dumps(_executed([md, _code("x = 2", [error])])))
     assert keep.keep(run, kept, src, results) == []
+    (src / "01_a.ipynb").write_text(json.dumps(_executed([md, _code("x = 1")])))
+    (run / "01_a.ipynb").write_text(json.dumps(_executed([md, _code("x = 1")])))
+    assert keep.keep(run, kept, src, results, names=["02_b"]) == []  # a job that ran 02 alone keeps 02 alone
     (src / "01_a.ipynb").unlink()
     keep.keep(run, kept, src, results)
     assert not path.exists()  # its notebook is gone: so is its copy
