@@ -49,8 +49,8 @@ paper (Finozzi, Sanfedino, Alazard, *Sub-structuring modeling of large space tru
 optimization in presence of parametric uncertainties*), then what is not reproduced and why.
 
 This page is generated: `python scripts/results_page.py` writes it from the stored results `data/results/*.json`,
-and `tests/test_results_page.py` fails when it differs from them. Each notebook's executed copy (with its figures,
-in `figures/`) shows the same numbers with the code that computed them. "Paper" numbers are the ones the notebooks
+and `tests/test_results_page.py` fails when it differs from them. Each notebook's executed copy, kept in
+`notebooks/executed/` with its figures, shows the same numbers with the code that computed them. "Paper" numbers are the ones the notebooks
 store next to their own. Units: h in cm (the side of the square section of the truss members; the paper's design point is
 h = {p7['h_cm']} cm), frequencies in rad/s, J_c and Z_c the worst-case H-infinity gains of the pointing error (RPE)
 and of the actuator effort over the uncertainty box (the effort constraint is Z_c < 1)."""
