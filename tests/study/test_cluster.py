@@ -19,3 +19,16 @@ def test_local_workers_keep_glibc_dynamic_mmap_threshold():
         client.cluster.close()
     assert list(env.values()) == [None]
     assert list(blas.values()) == ["1"]
+
+
+def test_the_local_cluster_keeps_its_info_messages_out_of_the_output(caplog):
+    """Importing distributed sets its loggers to INFO: the cluster's start and stop would print some 40 lines into a
+    notebook's output (notebook 06's sensitivity study did); its warnings still show."""
+    import logging
+
+    pytest.importorskip("dask.distributed")
+    with caplog.at_level(logging.INFO):
+        client = cluster.local_client(1)
+        cluster.close_client(client)
+    assert not [r for r in caplog.records if r.name.startswith("distributed") and r.levelno < logging.WARNING]
+    assert logging.getLogger("distributed").getEffectiveLevel() == logging.WARNING

@@ -4,6 +4,7 @@ a wait on their results that gives up when every worker has died.
 
 from __future__ import annotations
 
+import logging
 import os
 import time
 from collections.abc import Iterator
@@ -30,6 +31,9 @@ def local_client(n_workers: int | None = None, scheduler: str | None = None):
     import dask
     from dask.distributed import Client, LocalCluster
 
+    # importing distributed sets its loggers to INFO (Dask's configuration): a notebook's output would fill with the
+    # cluster's start and stop messages; its warnings and errors still show
+    logging.getLogger("distributed").setLevel(logging.WARNING)
     if scheduler:
         return Client(scheduler)
     for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
