@@ -30,7 +30,7 @@ from scipy import linalg
 
 from . import frames
 from ..infra.checks import check_members
-from .titop import Section, modal_data
+from .titop import Section, member_sections, modal_data
 
 __all__ = ["constrained_frequencies", "constrained_poles"]
 
@@ -38,13 +38,14 @@ __all__ = ["constrained_frequencies", "constrained_poles"]
 Lumped = Mapping[str, tuple[float, ArrayLike]]  # node -> (mass [kg], 3x3 inertia [kg m^2] about the node)
 
 
-def _assemble(nodes: Mapping[str, ArrayLike], members: Sequence[tuple[str, str]], section: Section, clamped: Sequence[str],
-              n_modes: int, lumped: Lumped | None = None) -> tuple[NDArray, NDArray, NDArray]:
+def _assemble(nodes: Mapping[str, ArrayLike], members: Sequence[tuple[str, str]], section: Section | Sequence[Section],
+              clamped: Sequence[str], n_modes: int, lumped: Lumped | None = None) -> tuple[NDArray, NDArray, NDArray]:
     """Mass, damping and stiffness matrices of the structure, on an orthonormal basis of the coordinates that satisfy the
     constraints (module docstring)."""
     names = list(nodes)
     check_members(nodes, members, clamped)
-    if not section.symmetric:
+    sections = member_sections(section, len(members))
+    if not all(s.symmetric for s in sections):
         raise ValueError("the constrained assembly takes square sections only (Iy = Iz): it uses the default beam frames")
     free_nodes = [n for n in names if n not in clamped]
     col = {n: 6 * i for i, n in enumerate(free_nodes)}
@@ -53,9 +54,9 @@ def _assemble(nodes: Mapping[str, ArrayLike], members: Sequence[tuple[str, str]]
         raise ValueError(f"lumped masses at {unknown}: not free nodes of the structure (free nodes: {free_nodes})")
     beams = []
     n_q = 6 * len(free_nodes)
-    for p, c in members:
+    for (p, c), sec in zip(members, sections):
         rp, rc = np.asarray(nodes[p], float), np.asarray(nodes[c], float)
-        md = modal_data(float(np.linalg.norm(rc - rp)), section, n_modes)
+        md = modal_data(float(np.linalg.norm(rc - rp)), sec, n_modes)
         beams.append((p, c, frames.twice_dcm(frames.beam_frame(rp, rc)), md, n_q))
         n_q += md.omega.size
 
@@ -88,7 +89,7 @@ def _assemble(nodes: Mapping[str, ArrayLike], members: Sequence[tuple[str, str]]
 def constrained_frequencies(
     nodes: Mapping[str, ArrayLike],
     members: Sequence[tuple[str, str]],
-    section: Section,
+    section: Section | Sequence[Section],
     clamped: Sequence[str],
     n_modes: int = 1,
 ) -> NDArray[np.float64]:
@@ -100,8 +101,8 @@ def constrained_frequencies(
         Node positions [m].
     members : sequence of (str, str)
         Beams as (P node, C node); each beam's modal data is clamped at P.
-    section : Section
-        Section and material of every beam.
+    section : Section or sequence of Section
+        Section and material of every beam, or of each beam (in the order of ``members``).
     clamped : sequence of str
         Nodes with zero displacement.
     n_modes : int
@@ -120,7 +121,7 @@ def constrained_frequencies(
 def constrained_poles(
     nodes: Mapping[str, ArrayLike],
     members: Sequence[tuple[str, str]],
-    section: Section,
+    section: Section | Sequence[Section],
     clamped: Sequence[str],
     n_modes: int = 1,
     lumped: Lumped | None = None,

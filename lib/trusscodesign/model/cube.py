@@ -32,10 +32,13 @@ from .interconnect import connect
 from .ports import MultiPortModel
 from .titop import Section
 
-__all__ = ["SIDE_LAYOUTS", "TOP_LAYOUTS", "cube_nodes", "cube_members", "cube_cccc_ffff", "cube_cfff_ffff"]
+__all__ = ["SIDE_LAYOUTS", "TOP_LAYOUTS", "CUBE_GROUPS", "cube_nodes", "cube_members", "cube_cccc_ffff", "cube_cfff_ffff"]
 
 SIDE_LAYOUTS = ("forward", "backward")
 TOP_LAYOUTS = ("N6-N8", "N5-N7")
+# the group of each member of cube_members(), whatever the layout: the verticals along the cube's z are longerons, the
+# top face's four edges battens, the side diagonals and the top one diagonals
+CUBE_GROUPS = ("longerons", "diagonals") * 4 + ("battens", "diagonals", "battens", "battens", "battens")
 
 
 def _check(lx: float, ly: float, lz: float, side: str, top: str) -> None:

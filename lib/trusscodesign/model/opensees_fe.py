@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import frames
 from ..infra.checks import check_members
-from .titop import Section
+from .titop import Section, member_sections
 
 __all__ = ["available", "frame_frequencies"]
 
@@ -42,7 +42,7 @@ def available() -> bool:
 def frame_frequencies(
     nodes: Mapping[str, ArrayLike],
     members: Sequence[tuple[str, str]],
-    section: Section,
+    section: Section | Sequence[Section],
     clamped: Sequence[str],
     n_elements: int = 10,
     mass: str = "consistent",
@@ -55,9 +55,9 @@ def frame_frequencies(
     nodes : mapping str -> array_like (3,)
         Structural nodes [m].
     members : sequence of (str, str)
-        Members between nodes (identical section).
-    section : Section
-        Section and material (J as given).
+        Members between nodes.
+    section : Section or sequence of Section
+        Section and material of every member, or of each member in the order of ``members`` (J as given).
     clamped : sequence of str
         Nodes with all six dofs fixed.
     n_elements : int
@@ -86,6 +86,7 @@ def frame_frequencies(
     names = list(nodes)
     tag = {n: i + 1 for i, n in enumerate(names)}
     check_members(nodes, members, clamped)  # OpenSees would only print warnings and return plausible numbers
+    sections = member_sections(section, len(members))
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     for n in names:
@@ -93,7 +94,7 @@ def frame_frequencies(
     for n in clamped:
         ops.fix(tag[n], 1, 1, 1, 1, 1, 1)
     next_node, next_ele = len(names) + 1, 1
-    for k, (p, c) in enumerate(members):
+    for k, ((p, c), sec) in enumerate(zip(members, sections)):
         rp, rc = np.asarray(nodes[p], float), np.asarray(nodes[c], float)
         rot = frames.beam_frame(rp, rc)
         ops.geomTransf("Linear", k + 1, *map(float, rot[:, 2]))  # vector in the local x-z plane: local z
@@ -105,8 +106,8 @@ def frame_frequencies(
             next_node += 1
         chain.append(tag[c])
         for i, j in zip(chain[:-1], chain[1:]):
-            args = [next_ele, i, j, section.area, section.young, section.shear_modulus, section.torsion_constant,
-                    section.iy, section.iz, k + 1, "-mass", section.density * section.area]
+            args = [next_ele, i, j, sec.area, sec.young, sec.shear_modulus, sec.torsion_constant,
+                    sec.iy, sec.iz, k + 1, "-mass", sec.density * sec.area]
             if mass == "consistent":
                 args.append("-cMass")
             ops.element("elasticBeamColumn", *args)

@@ -21,6 +21,8 @@ With ``n_modes = 1`` the model has 10 modes, i.e. order 20, as in the paper.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import math
 from dataclasses import dataclass
 from functools import lru_cache
@@ -40,6 +42,7 @@ __all__ = [
     "ModalData",
     "square_torsion_constant",
     "rigid_mass",
+    "member_sections",
     "modal_data",
     "clamped_free",
     "clamped_free_lft",
@@ -389,6 +392,24 @@ def clamped_free(length: float, section: Section, n_modes: int = 1, p: str = "P"
     a, b, cc, d = titop_matrices(md)
     ports = [node_port(c, md.r_pc, "free"), node_port(p, np.zeros(3), "clamped")]
     return MultiPortModel(a, b, cc, d, ports, name)
+
+
+def member_sections(section: Section | Sequence[Section], n_members: int) -> list[Section]:
+    """One section per member: ``section`` repeated, or the sequence given (checked: one per member).
+
+    Raises
+    ------
+    ValueError
+        If a sequence does not have ``n_members`` sections.
+    TypeError
+        If an entry is not a :class:`Section`.
+    """
+    out = [section] * n_members if isinstance(section, Section) else list(section)
+    if len(out) != n_members:
+        raise ValueError(f"give one section for all members or one per member: {len(out)} sections for {n_members} members")
+    for s in out:
+        _check_section(s)
+    return out
 
 
 def beam(p: tuple[str, ArrayLike], c: tuple[str, ArrayLike], section: Section, n_modes: int = 1,

@@ -32,11 +32,12 @@ import numpy as np
 from . import frames
 from ..infra.checks import check_real
 from .cube import cube_cccc_ffff, cube_members, cube_nodes
+from .cubetruss import Cube, CubeTruss, cube_truss
 from .interconnect import connect
 from .ports import MultiPortModel
 from .titop import Section
 
-__all__ = ["CUBES", "truss_nodes", "truss_members", "t_truss_all_ports", "t_truss"]
+__all__ = ["CUBES", "truss_nodes", "truss_members", "t_truss_all_ports", "t_truss", "t_truss_cubes"]
 
 # (DCM cube -> truss frame as a function of the rotation about x [rad], origin in units of a)
 CUBES: dict[str, tuple[float, tuple[float, float, float]]] = {
@@ -117,3 +118,18 @@ def t_truss(section: Section, a: float = 1.0, n_modes: int = 1, ports: tuple[str
     if h_param is None:
         return model
     return model.unscale_signals_lft(h_param, list(ports))
+
+
+def t_truss_cubes(a: float = 1.0) -> CubeTruss:
+    """The T-truss as a truss of cubes (:mod:`trusscodesign.model.cubetruss`): :data:`CUBES`, nodes N1..N24 and members
+    as :func:`truss_nodes` and :func:`truss_members`.
+
+    Its member-by-member model (:func:`trusscodesign.model.cubetruss.truss_model`) equals :func:`t_truss` to round-off;
+    :func:`t_truss` keeps the paper's cube-by-cube block diagram, on which the stored results were computed.
+    """
+    check_real("cube side a", a, "m")
+    cubes = []
+    for name, (angle, origin) in CUBES.items():
+        rot = tuple(tuple(float(v) for v in np.round(row)) for row in frames.rot_x(angle))
+        cubes.append(Cube(name, (a * origin[0], a * origin[1], a * origin[2]), rot, (a, a, a)))
+    return cube_truss(cubes)
