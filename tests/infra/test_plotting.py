@@ -109,3 +109,22 @@ def test_sine_build_up_in_physical_units_with_envelope_and_bounds():
     (inset,) = ax.child_axes
     x = inset.get_lines()[0].get_xdata()
     assert x.min() >= 90.0 - 1e-9 and x.max() == 100.0 and np.allclose(inset.get_lines()[0].get_ydata(), 10.0 * np.sin(x))
+
+
+def test_a_mode_is_drawn_at_rest_and_displaced_with_its_marks():
+    import matplotlib.pyplot as plt
+    import pytest
+
+    nodes = {"A": [0, 0, 0], "B": [1, 0, 0], "C": [1, 1, 1]}
+    members = [("A", "B"), ("B", "C")]
+    fig = plt.figure()
+    ax = fig.add_subplot(projection="3d")
+    plotting.draw_mode(ax, nodes, members, [[0, 0, 0], [0, 0, 2.0], [0, 1.0, 0]], 2 * np.pi, clamped=["A"], ports=["C"])
+    lines = ax.get_lines()
+    assert len(lines) == 2 * len(members) + 2  # at rest and displaced, then the clamped and port marks
+    x, y, z = lines[1].get_data_3d()  # member A-B displaced: B, the largest displacement, drawn at 15 % of 1 m
+    assert np.allclose([x[1], y[1], z[1]], [1, 0, 0.15])
+    assert ax.get_title() == "6.28 rad/s (1.000 Hz)" and ax.get_zlabel() == "z [m]"
+    with pytest.raises(ValueError, match="one row .x, y, z. per node"):
+        plotting.draw_mode(ax, nodes, members, np.zeros((2, 3)), 1.0)
+    plt.close(fig)

@@ -16,7 +16,7 @@ from .paths import resolve
 if TYPE_CHECKING:
     from mpl_toolkits.mplot3d import Axes3D
 
-__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "pso_panels", "objective_grid", "sine_build_up"]
+__all__ = ["savefig", "magnitude_db", "plot_magnitude", "draw_structure", "draw_mode", "pso_panels", "objective_grid", "sine_build_up"]
 
 
 def savefig(fig: plt.Figure, name: str, figures_dir: str | Path = "figures") -> Path:
@@ -72,6 +72,57 @@ def draw_structure(ax: plt.Axes, nodes: Mapping[str, ArrayLike], members: Sequen
         ax3.set_zlabel("z [m]")
     if title:
         ax.set_title(title)
+
+
+def draw_mode(ax: plt.Axes, nodes: Mapping[str, ArrayLike], members: Sequence[tuple[str, str]], displacement: ArrayLike,
+              frequency: float, clamped: Sequence[str] = (), ports: Sequence[str] = (), scale: float | None = None,
+              labels: bool = True) -> None:
+    """Draw a mode shape on a 3D axes: the structure at rest (grey) and displaced (blue), members as straight lines
+    between their displaced nodes; clamped nodes as black squares, ports as red triangles, nodes labelled.
+
+    Parameters
+    ----------
+    ax : matplotlib 3D axes
+    nodes : mapping str -> array_like (3,)
+        Node positions [m].
+    members : sequence of (str, str)
+        Members between nodes.
+    displacement : array_like, shape (n_nodes, 3)
+        The mode's node translations, in the order of ``nodes`` (any normalisation).
+    frequency : float
+        The mode's natural frequency [rad/s] (in the title, also in Hz).
+    clamped, ports : sequence of str
+        Nodes marked as clamped and as ports.
+    scale : float, optional
+        Largest drawn displacement [m] (default: 15 % of the structure's largest dimension).
+    labels : bool
+        Label the nodes with their names.
+    """
+    names = list(nodes)
+    pos = np.array([np.asarray(nodes[n], float) for n in names])
+    disp = np.asarray(displacement, float)
+    if disp.shape != pos.shape:
+        raise ValueError(f"displacement must have one row (x, y, z) per node: shape {pos.shape}, got {disp.shape}")
+    size = float(np.max(np.ptp(pos, axis=0)))
+    peak = float(np.max(np.linalg.norm(disp, axis=1)))
+    moved = pos + disp * ((0.15 * size if scale is None else scale) / peak if peak > 0 else 0.0)
+    index = {n: i for i, n in enumerate(names)}
+    ax3 = cast("Axes3D", ax)
+    for p, c in members:
+        for xyz, style in ((pos, dict(color="0.75", lw=0.8)), (moved, dict(color="tab:blue", lw=1.6))):
+            seg = xyz[[index[p], index[c]]]
+            ax3.plot(seg[:, 0], seg[:, 1], seg[:, 2], "-", **style)
+    for group, style in ((clamped, dict(marker="s", color="k", ms=7)), (ports, dict(marker="^", color="tab:red", ms=9))):
+        pts = moved[[index[n] for n in group]] if len(group) else np.zeros((0, 3))
+        ax3.plot(pts[:, 0], pts[:, 1], pts[:, 2], ls="none", **style)
+    if labels:
+        for n, r in zip(names, moved):
+            ax3.text(r[0], r[1], r[2], f" {n}", fontsize=7)
+    ax3.set_xlabel("x [m]")
+    ax3.set_ylabel("y [m]")
+    ax3.set_zlabel("z [m]")
+    ax3.set_box_aspect(tuple(np.maximum(np.ptp(pos, axis=0), 0.2 * size)))
+    ax.set_title(f"{frequency:.2f} rad/s ({frequency / (2 * np.pi):.3f} Hz)")
 
 
 def pso_panels(history: Sequence[Mapping], n_iterations: int, h_range: tuple[float, float], jc_limit: float = 2.0) -> plt.Figure:

@@ -20,7 +20,7 @@ is free. The coordinates are then the free nodes' displacements and each beam's 
 damping and stiffness matrices are sparse, a beam coupling its two nodes and its own coordinates only, as a finite
 element (without a global null space, whose cost is cubic in the number of beams). The undamped natural frequencies
 follow from a symmetric generalised eigenproblem (all of them, or the lowest by sparse shift-invert:
-:func:`lowest_frequencies`), the damped poles from the first-order form. Any member may be given either way
+:func:`lowest_modes`), the damped poles from the first-order form. Any member may be given either way
 round and in any order: the assembled structure is the same, and so are its poles unless the damping model depends on
 which end of a beam is P (the paper's ``"clamped_modes"``).
 """
@@ -28,6 +28,7 @@ which end of a beam is P (the paper's ``"clamped_modes"``).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,7 +39,7 @@ from . import frames
 from ..infra.checks import check_members
 from .titop import Section, member_sections, modal_data
 
-__all__ = ["constrained_frequencies", "lowest_frequencies", "constrained_poles"]
+__all__ = ["Modes", "constrained_frequencies", "lowest_modes", "constrained_poles"]
 
 
 Lumped = Mapping[str, tuple[float, ArrayLike]]  # node -> (mass [kg], 3x3 inertia [kg m^2] about the node)
@@ -146,36 +147,61 @@ def constrained_frequencies(
     return np.sqrt(np.clip(lam, 0.0, None))
 
 
-def lowest_frequencies(
+@dataclass(frozen=True)
+class Modes:
+    """The lowest modes of a constrained structure (:func:`lowest_modes`).
+
+    Attributes
+    ----------
+    frequencies : ndarray, shape (k,)
+        Undamped natural frequencies [rad/s], ascending.
+    shapes : ndarray, shape (k, n_nodes, 6)
+        Each mode's node displacements (translations [m], rotations [rad], common frame; mass-normalised modes), in
+        the order of the nodes given; zero at the clamped nodes.
+    nodes : list of str
+        The nodes, in the order of ``shapes``.
+    """
+
+    frequencies: NDArray[np.float64]
+    shapes: NDArray[np.float64]
+    nodes: list[str]
+
+
+def lowest_modes(
     nodes: Mapping[str, ArrayLike],
     members: Sequence[tuple[str, str]],
     section: Section | Sequence[Section],
     clamped: Sequence[str],
     k: int = 20,
     n_modes: int = 1,
-) -> NDArray[np.float64]:
-    """The ``k`` lowest undamped natural frequencies [rad/s] of beams assembled by explicit constraints, by sparse
-    shift-invert Lanczos (``scipy.sparse.linalg.eigsh`` about 0): for large trusses, where
-    :func:`constrained_frequencies` (every frequency, dense) is cubic in the size.
+) -> Modes:
+    """The ``k`` lowest undamped modes of beams assembled by explicit constraints, by sparse shift-invert Lanczos
+    (``scipy.sparse.linalg.eigsh`` about 0): for large trusses, where :func:`constrained_frequencies` (every
+    frequency, dense) is cubic in the size.
 
     Parameters
     ----------
     nodes, members, section, clamped, n_modes
         As :func:`constrained_frequencies`.
     k : int
-        Number of frequencies, fewer than the structure's coordinates.
+        Number of modes, fewer than the structure's coordinates.
 
     Returns
     -------
-    ndarray
-        The ``k`` lowest natural frequencies, ascending.
+    Modes
     """
     mass, _, stiff = _assemble(nodes, members, section, clamped, n_modes)
     if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 1 <= k < mass.shape[0]:
         raise ValueError(f"k must be an integer in [1, {mass.shape[0] - 1}] (the structure has {mass.shape[0]} "
                          f"coordinates), got {k!r}")
-    lam = eigsh(stiff.tocsc(), k=k, M=mass.tocsc(), sigma=0.0, which="LM", return_eigenvectors=False)
-    return np.sort(np.sqrt(np.clip(lam, 0.0, None)))
+    lam, vec = eigsh(stiff.tocsc(), k=k, M=mass.tocsc(), sigma=0.0, which="LM")
+    order = np.argsort(lam)
+    lam, vec = lam[order], vec[:, order]
+    names = list(nodes)
+    shapes = np.zeros((k, len(names), 6))
+    free = [i for i, n in enumerate(names) if n not in clamped]
+    shapes[:, free, :] = vec[: 6 * len(free)].T.reshape(k, len(free), 6)
+    return Modes(np.sqrt(np.clip(lam, 0.0, None)), shapes, names)
 
 
 def constrained_poles(

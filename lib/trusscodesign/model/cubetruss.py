@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import frames
+from .assembly import Modes, lowest_modes
 from .cube import CUBE_GROUPS, SIDE_LAYOUTS, TOP_LAYOUTS, cube_members, cube_nodes
 from .interconnect import connect
 from .ports import MultiPortModel
@@ -147,6 +148,11 @@ class CubeTruss:
     def length(self, member: Member) -> float:
         """Length of a member [m]."""
         return float(np.linalg.norm(self.nodes[member.c] - self.nodes[member.p]))
+
+    def modes(self, sections: Section | Mapping[str, Section], clamped: Sequence[str], k: int = 20, n_modes: int = 1) -> Modes:
+        """The ``k`` lowest modes of the truss with ``clamped`` nodes fixed (sparse constrained assembly of the same
+        TITOP beams: :func:`trusscodesign.model.assembly.lowest_modes`, linear in the truss's size)."""
+        return lowest_modes(self.nodes, self.pairs(), self.sections(sections), clamped, k, n_modes)
 
     def pairs(self) -> list[tuple[str, str]]:
         """The members as (P node, C node) pairs (the form of :mod:`trusscodesign.model.assembly` and
