@@ -122,6 +122,7 @@ def draw_mode(ax: plt.Axes, nodes: Mapping[str, ArrayLike], members: Sequence[tu
     ax3.set_ylabel("y [m]")
     ax3.set_zlabel("z [m]")
     ax3.set_box_aspect(tuple(np.maximum(np.ptp(pos, axis=0), 0.2 * size)))
+    ax3.locator_params(nbins=4)
     ax.set_title(f"{frequency:.2f} rad/s ({frequency / (2 * np.pi):.3f} Hz)")
 
 
