@@ -62,7 +62,8 @@ def case(name: str, truss: cubetruss.CubeTruss, clamped: list[str], port: str, d
             lambda: cubetruss.truss_model(truss, SECTION, clamped, [port]).select([port]))
         split, row["remove_s"], row["remove_mb"] = measured(lambda: reduction.split_slow(model.a, model.b, model.c, model.d))
         row["spurious_poles"] = split.n_slow
-        (red, n_cut), row["reduce_s"], row["reduce_mb"] = measured(lambda: reduction.residualize_above(*split.fast, cutoff))
+        fa, fb, fc, fd = split.fast
+        (red, _), row["reduce_s"], row["reduce_mb"] = measured(lambda: reduction.residualize_above(fa, fb, fc, fd, cutoff))
         p = np.linalg.eigvals(split.fast[0])
         f = np.sort(np.abs(p[p.imag > 0]))[:K]
         row["dense_gap"] = float(np.max(np.abs(f / fe - 1)))
