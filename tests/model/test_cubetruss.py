@@ -26,7 +26,9 @@ def test_the_t_truss_of_cubes_is_the_papers_block_diagram():
     nodes = truss.truss_nodes()
     assert list(t.nodes) == list(nodes) and all(np.allclose(t.nodes[n], nodes[n], atol=1e-15) for n in nodes)
     assert t.pairs() == truss.truss_members()
-    assert t.mass(SEC) == sum(SEC.density * SEC.area * np.linalg.norm(nodes[c] - nodes[p]) for p, c in truss.truss_members())
+    # five cubes of eight 1 m edges and five diagonals: 40 + 25 sqrt(2) m of members (m0 = 183.11 kg at h = 3 cm)
+    assert np.isclose(t.mass(SEC), SEC.density * SEC.area * (40 + 25 * np.sqrt(2)), rtol=1e-13)
+    assert round(t.mass(titop.Section.square(0.03)), 2) == 183.11
     general = cubetruss.truss_model(t, SEC, BASE, ["N17", "N20"])
     paper = truss.t_truss(SEC)
     assert general.port_names == paper.port_names and general.nstates == paper.nstates == 1300
@@ -65,6 +67,40 @@ def test_a_plate_builds_shared_members_once_and_matches_both_references():
     assert f.size == ref.size and np.max(np.abs(f / ref - 1)) < 1e-9
     fe = opensees_fe.frame_frequencies(plate.nodes, plate.pairs(), SEC, clamped, 10, "consistent", 20)
     assert np.max(np.abs(f[:20] / fe - 1)) < 5e-3
+
+
+def test_a_plate_clamped_at_one_corner_node_frees_and_clamps_by_inversion():
+    """Clamped at a single node that a member carries (N5, a top corner), with ports at two nodes that no member
+    carries (bottom corners, freed by inversion): the poles of the constrained assembly."""
+    plate = cubetruss.plate(2, 2)
+    model = cubetruss.truss_model(plate, SEC, ["N5"], ["N1", "N2"])
+    f = _frequencies(model)
+    ref = np.sort(np.abs(assembly.constrained_poles(plate.nodes, plate.pairs(), SEC, ["N5"])))
+    assert f.size == ref.size and np.max(np.abs(f / ref - 1)) < 1e-8
+
+
+def test_nodes_are_merged_by_distance_and_crossing_diagonals_refused():
+    """Eight flat cubes stacked at 0.321 m: 7 x 0.321 and 6 x 0.321 + 0.321 differ in the last bit and straddled a
+    rounding grid (the truss came out with 40 nodes instead of 36, and rigid modes); two cubes side by side with the
+    same side layout cross their diagonals on the shared face."""
+    flat = [Cube(f"C{k}", (0.0, 0.0, k * 0.321), sides=(0.64, 0.64, 0.321)) for k in range(8)]
+    stack = cubetruss.cube_truss(flat)
+    assert len(stack.nodes) == 36
+    assert stack.modes(SEC, ["N1", "N2", "N3", "N4"], k=2).frequencies[0] > 1.0
+    with pytest.raises(ValueError, match="crosses member .* of cube A at their midpoint"):
+        cubetruss.cube_truss([Cube("A", (0, 0, 0)), Cube("B", (1, 0, 0))])
+    assert len(cubetruss.cube_truss([Cube("A", (0, 0, 0)), Cube("B", (1, 0, 0), side="backward")]).members) == 26 - 4
+
+
+def test_carriers_in_a_loop_are_refused():
+    """A hand-made description whose members carry their nodes round a loop (an algebraic loop in the block
+    diagram)."""
+    base = cubetruss.boom(1)
+    members = [cubetruss.Member("N5", "N6", "battens", "C1"), cubetruss.Member("N6", "N7", "battens", "C1"),
+               cubetruss.Member("N7", "N5", "battens", "C1")]
+    looped = cubetruss.CubeTruss(base.cubes, base.nodes, members + base.members, base.cube_nodes)
+    with pytest.raises(ValueError, match="form a loop"):
+        cubetruss.truss_model(looped, SEC, BASE)
 
 
 def test_the_boom_does_not_depend_on_its_axis():
@@ -152,6 +188,8 @@ def test_bad_nodes_sections_and_sizes_are_refused():
         boom.sections({"longerons": SEC, "diagonals": SEC})
     with pytest.raises(ValueError, match="n .number of cubes. must be an integer >= 1"):
         cubetruss.boom(0)
+    with pytest.raises(ValueError, match=r"a \(cube side\) must be a number in \(0, 1000\] m, got -1"):
+        cubetruss.boom(2, a=-1)
     with pytest.raises(ValueError, match="axis must be one of"):
         cubetruss.boom(2, axis="w")
     with pytest.raises(ValueError, match="m .cubes along y. must be an integer >= 1"):

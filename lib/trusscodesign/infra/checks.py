@@ -60,8 +60,8 @@ def check_panel_angles(name: str, values: object) -> None:
 
 def check_members(nodes, members, clamped=None) -> None:
     """Raise a ValueError unless every member and clamped node is a known node, every node belongs to a member and
-    (if ``clamped`` is given) at least one node is clamped (a frame with an unused node or none clamped has a singular
-    stiffness)."""
+    (if ``clamped`` is given) at least one node is clamped and every node is held by a clamped one through the members
+    (a frame with an unused node, none clamped or a loose part has a singular stiffness)."""
     names = list(nodes)
     unknown = sorted({n for m in members for n in m if n not in nodes} | {n for n in clamped or () if n not in nodes})
     if unknown:
@@ -71,3 +71,17 @@ def check_members(nodes, members, clamped=None) -> None:
         raise ValueError(f"node(s) {unused} belong to no member: their stiffness matrix would be singular; drop them")
     if clamped is not None and not len(clamped):
         raise ValueError("clamped must name at least one node (a free-free frame has rigid modes)")
+    if clamped is not None:  # every node held through members by a clamped one, or a loose part moves rigidly
+        links: dict[str, set[str]] = {n: set() for n in names}
+        for p, c in members:
+            links[p].add(c)
+            links[c].add(p)
+        held, todo = set(clamped), list(clamped)
+        while todo:
+            for n in links[todo.pop()] - held:
+                held.add(n)
+                todo.append(n)
+        loose = [n for n in names if n not in held]
+        if loose:
+            raise ValueError(f"node(s) {loose} are connected to no clamped node through the members: that part would move "
+                             "as a rigid body; connect it or clamp one of its nodes")

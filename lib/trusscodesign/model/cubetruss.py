@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import frames
+from ..infra.checks import check_option
 from .assembly import Modes, lowest_modes
 from .cube import CUBE_GROUPS, SIDE_LAYOUTS, TOP_LAYOUTS, cube_members, cube_nodes
 from .interconnect import connect
@@ -240,27 +241,45 @@ def cube_truss(cubes: Sequence[Cube]) -> CubeTruss:
     names = [c.name for c in cubes]
     if len(set(names)) != len(names):
         raise ValueError(f"cube names must differ, got {names}")
-    tol = 1e-9 * max(max(c.sides) for c in cubes)
+    largest = max(max(c.sides) for c in cubes)
+    if min(min(c.sides) for c in cubes) < 1e-3 * largest:
+        raise ValueError(f"cube sides range from {min(min(c.sides) for c in cubes):g} to {largest:g} m: the shortest must be "
+                         "at least 1e-3 of the longest (nodes are merged within 1e-9 of the longest side)")
+    tol = 1e-9 * largest
     positions = [c.positions() for c in cubes]
     _check_contacts(cubes, positions, tol)
+    # nodes merged by distance (a rounding grid would split points that straddle a grid line)
     nodes: dict[str, NDArray[np.float64]] = {}
-    keys: dict[tuple[int, ...], str] = {}
+    found = np.zeros((0, 3))
     local: dict[str, dict[str, str]] = {}
     for cube, pos in zip(cubes, positions):
         local[cube.name] = {}
         for n, r in pos.items():
-            key = tuple(int(k) for k in np.round(r / tol / 1e3))  # positions agree to 1e-6 of the largest side
-            if key not in keys:
-                keys[key] = f"N{len(nodes) + 1}"
-                nodes[keys[key]] = r
-            local[cube.name][n] = keys[key]
-    members, built = [], set()
+            near = np.flatnonzero(np.max(np.abs(found - r), axis=1) <= tol) if len(found) else np.zeros(0, int)
+            if near.size:
+                local[cube.name][n] = f"N{near[0] + 1}"
+            else:
+                nodes[f"N{len(nodes) + 1}"] = r
+                found = np.vstack([found, r])
+                local[cube.name][n] = f"N{len(nodes)}"
+    members: list[Member] = []
+    built: set[frozenset[str]] = set()
+    centres = np.zeros((0, 3))
     for cube in cubes:
         for (p, c), group in zip(cube_members(cube.side, cube.top), CUBE_GROUPS):
             gp, gc = local[cube.name][p], local[cube.name][c]
-            if frozenset((gp, gc)) not in built:
-                built.add(frozenset((gp, gc)))
-                members.append(Member(gp, gc, group, cube.name))
+            if frozenset((gp, gc)) in built:
+                continue
+            centre = (nodes[gp] + nodes[gc]) / 2
+            same = np.flatnonzero(np.max(np.abs(centres - centre), axis=1) <= tol) if len(centres) else np.zeros(0, int)
+            if same.size:  # two different members through one point: crossing diagonals of a shared face
+                other = members[same[0]]
+                raise ValueError(f"member {gp}-{gc} of cube {cube.name} crosses member {other.p}-{other.c} of cube "
+                                 f"{other.cube} at their midpoint, without a node: give the two cubes mirror side "
+                                 f"layouts ({SIDE_LAYOUTS}) so that their shared face has one diagonal")
+            built.add(frozenset((gp, gc)))
+            members.append(Member(gp, gc, group, cube.name))
+            centres = np.vstack([centres, centre])
     return CubeTruss(cubes, nodes, members, local)
 
 
@@ -272,6 +291,7 @@ def boom(n: int, a: float = 1.0, axis: str = "z") -> CubeTruss:
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n (number of cubes) must be an integer >= 1, got {n!r}")
+    check_option("a (cube side)", a, 0.0, 1e3, open_low=True, unit="m")
     if axis not in _AXES:
         raise ValueError(f"axis must be one of {list(_AXES)}, got {axis!r}")
     rot = _AXES[axis]
@@ -289,6 +309,7 @@ def plate(n: int, m: int, a: float = 1.0) -> CubeTruss:
     for val, nm in ((n, "n"), (m, "m")):
         if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
             raise ValueError(f"{nm} (cubes along {'x' if nm == 'n' else 'y'}) must be an integer >= 1, got {val!r}")
+    check_option("a (cube side)", a, 0.0, 1e3, open_low=True, unit="m")
     return cube_truss([Cube(f"C{i + 1}_{j + 1}", (i * a, j * a, 0.0), sides=(a, a, a),
                             side=SIDE_LAYOUTS[(i + j) % 2]) for i in range(n) for j in range(m)])
 
