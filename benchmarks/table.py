@@ -60,7 +60,29 @@ def rows(results: Path = HERE / "results") -> list[tuple[str, str, str, str, str
          f"reduction {e['reduction']:.1f} s, synthesis {e['synthesis']:.1f} s; best h = {100 * c['best']['h']:.3f} cm, "
          f"J_c {c['best']['J_c']:.4f}", _machine(c["machine"]), "under 60 min (the paper: 11 h 16 min on 24 cores)"),
         _calibrated_row(results),
+        _truss_row(results),
     ]
+
+
+def _truss_row(results: Path) -> tuple[str, str, str, str, str, str]:
+    """The row of the truss-of-cubes scaling (``truss_scaling.json``), or what is missing."""
+    what = ("booms of 1-50 cubes and a 3 x 3 plate: the paper's block diagram (build, removal of the spurious poles, "
+            "reduction) and the sparse constrained assembly, beside OpenSeesPy; time ~ cubes^p")
+    command, target = "`python benchmarks/truss_scaling.py`", "a 20-cube boom built, reduced and validated under 60 s (goal: 50 cubes under 2 min, 4 GiB)"
+    path = results / "truss_scaling.json"
+    if not path.exists():
+        return ("`truss_scaling.py`", what, command, "not measured yet", "-", target)
+    t = json.loads(path.read_text())
+    rows = {r["case"]: r for r in t["rows"]}
+    p = {k: v for k, v in t["exponents"].items() if v is not None}
+    names = {"build_s": "build", "remove_s": "removal", "reduce_s": "reduction", "sparse_s": "sparse", "opensees_s": "OpenSeesPy"}
+    b20, b50 = rows.get("boom 20", {}), rows.get("boom 50", {})
+    figures = (f"exponents p: {', '.join(f'{names[k]} {v:.2f}' for k, v in p.items())}; boom of 20 cubes: sparse "
+               f"{b20.get('sparse_s', float('nan')):.2f} s + OpenSeesPy {b20.get('opensees_s', float('nan')):.1f} s"
+               + (f", block diagram {b20['build_s'] + b20['remove_s'] + b20['reduce_s']:.0f} s" if "remove_s" in b20 else
+                  ", block diagram not run (extrapolated)")
+               + f"; boom of 50: sparse {b50.get('sparse_s', float('nan')):.2f} s ({b50.get('sparse_mb', float('nan')):.0f} MB)")
+    return ("`truss_scaling.py`", what, command, figures, _machine(t["machine"]), target)
 
 
 def _calibrated_row(results: Path) -> tuple[str, str, str, str, str, str]:
