@@ -82,6 +82,8 @@ def _truss_row(results: Path) -> tuple[str, str, str, str, str, str]:
                + (f", block diagram {b20['build_s'] + b20['remove_s'] + b20['reduce_s']:.0f} s" if "remove_s" in b20 else
                   ", block diagram not run (extrapolated)")
                + f"; boom of 50: sparse {b50.get('sparse_s', float('nan')):.2f} s ({b50.get('sparse_mb', float('nan')):.0f} MB)")
+    t20 = b20.get("sparse_s", float("inf")) + b20.get("opensees_s", float("inf"))
+    figures += f"; bar {'met' if t20 < 60 else 'NOT met'} by the sparse path ({t20:.0f} s built and validated)"
     return ("`truss_scaling.py`", what, command, figures, _machine(t["machine"]), target)
 
 

@@ -142,6 +142,37 @@ largest singular value of G is {r['max_singular_value_db']:.1f} dB.
 {damping(r["damping"])}"""
 
 
+def nb04b(d: dict) -> str:
+    p, r = d["04b"]["parameters"], d["04b"]["results"]
+    b, pl = r["boom"], r["plate"]
+    v_rows = [[v["truss"], str(v["members"]), f"{v['first [Hz]']:.3f}", sci(v["largest gap"])] for v in r["validation"]]
+    d_rows = [[str(x["cubes"]), str(x["order"]), str(x["spurious poles"]), sci(x["largest gap"])] for x in r["dense"]]
+    ex = {k: v["p"] for k, v in r["exponents"].items() if v is not None}
+    return f"""## 04b · Any truss built from cubes
+
+A boom of {b['cubes']} cubes ({b['members']} members) with longerons of {cm(p['longeron_h'])} cm and the other members at
+{cm(p['h'])} cm weighs {b['mass_kg']:.1f} kg ({b['mass_uniform_kg']:.1f} kg with one section for all); its first
+frequency is {b['frequencies_hz'][0]:.3f} Hz ({b['frequencies_uniform_hz'][0]:.3f} Hz). The T-truss rebuilt from five cube
+placements has the poles of notebook 04's block diagram to {sci(r['t_truss_gap'])}. A plate of {pl['size'][0]} x {pl['size'][1]}
+cubes ({pl['members']} members, {pl['mass_kg']:.1f} kg at {cm(p['h'])} cm) clamped at the base of its middle cube has its first
+frequency at {pl['frequencies_hz'][0]:.3f} Hz.
+
+The paper's block diagram and the sparse constrained assembly of the same beams (no spurious poles), booms clamped at
+their base, largest relative gap of the first {p['n_compare']} frequencies:
+
+{table(['cubes', 'order', 'spurious poles', 'largest gap'], d_rows)}
+
+Against OpenSeesPy ({p['fe_elements']} elements per member), the first {p['n_compare']} frequencies with
+{p['validation_n_modes']} Ritz modes per field (bar {sci(p['tolerance'])}):
+
+{table(['truss', 'members', 'first frequency [Hz]', 'largest gap'], v_rows)}
+
+Wall time against the number of cubes, exponent p of time ~ cubes^p fitted over the booms of 5 cubes and more (this
+run, on its machine; the benchmark `benchmarks/truss_scaling.py` measures the same on an idle one):
+{'; '.join(f'{k} {v:.2f}' for k, v in ex.items())}.
+"""
+
+
 def damping(dm: dict) -> str:
     """Notebook 04's damping study (docs/titop.md, section g)."""
     beam = {(b["model"], b["clamped at"], b["mode"]): b["zeta"] for b in dm["beam"]}
