@@ -357,3 +357,26 @@ def test_the_parameters_fingerprint_follows_values_not_notes():
     noted = json.loads(json.dumps(base))
     noted["_provenance"] = "another note"  # a note: the same
     assert spacecraft.parameters_fingerprint(edited) != spacecraft.parameters_fingerprint() == spacecraft.parameters_fingerprint(noted)
+
+
+def test_section_sides_by_member_group():
+    """One side for all, given by group, is the paper's truss (assembled member by member): the reduced model (slow
+    spurious poles removed) equal to 1e-9; the mass by group is the closed form; h stays a number for tunable models."""
+    from trusscodesign.model.statespace import frequency_response
+
+    by_group = spacecraft.open_loop({"all": 0.02139})
+    paper = spacecraft.open_loop(0.02139)
+    assert by_group.parameters["h"] is None and by_group.parameters["h_all"] == 0.02139
+    red = [reduction.modal_reduction(m.G.A, m.G.B, m.G.C, m.G.D).reduced for m in (by_group, paper)]
+    w = [0.0, 10.0, 97.7, 400.0]
+    g1, g2 = (frequency_response(*r, w) for r in red)
+    assert red[0][0].shape == red[1][0].shape == (784, 784) and np.max(np.abs(g1 - g2)) < 1e-9 * np.max(np.abs(g2))
+    # 20 m of longerons, 20 m of battens, 25 diagonals of sqrt(2) m
+    sides = {"longerons": 0.03, "all": 0.02}
+    assert np.isclose(spacecraft.truss_mass(sides), 2700.0 * (0.03**2 * 20 + 0.02**2 * (20 + 25 * np.sqrt(2))), rtol=1e-13)
+    with pytest.raises(ValueError, match="tunable scales one section side h"):
+        spacecraft.open_loop(sides, tunable=True)
+    with pytest.raises(ValueError, match=r"section keys \['spars'\] name no cube or group"):
+        spacecraft.open_loop({"spars": 0.02, "all": 0.02})
+    with pytest.raises(ValueError, match=r"sides\['all'\] must be a section side in metres"):
+        spacecraft.truss_mass({"all": 2.0})

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -33,7 +34,8 @@ from .interconnect import connect
 from .ports import MultiPortModel
 from .reduction import modal_reduction, static_gain
 from .titop import DAMPING_MODELS, Section
-from .truss import t_truss, truss_members, truss_nodes
+from .truss import t_truss, t_truss_cubes, truss_members, truss_nodes
+from .cubetruss import truss_model as cube_truss_model
 
 __all__ = ["MODEL", "STATED", "study_parameters", "DISTURBANCES", "PMA_LAYOUTS", "load_parameters", "parameters_fingerprint", "inputs_key", "LOOP_CHOICES", "model_inputs", "check_section_side", "OpenLoop", "open_loop", "uncertain_parameters", "tunable_h", "INPUTS", "OUTPUTS", "component_masses", "truss_mass",
            "reduced_uncertain_model", "scenario", "inertia_at_p1", "with_choices", "load_preset", "preset_parameters"]
@@ -136,13 +138,34 @@ def _panel_angle(theta: float) -> float:
     return theta
 
 
-def truss_mass(h: float, params: dict | None = None) -> float:
-    """T-truss mass ``rho h^2 * (total beam length)`` [kg] (183.11 kg at h = 3 cm)."""
+def truss_mass(h: float | Mapping[str, float], params: dict | None = None) -> float:
+    """T-truss mass ``rho h^2 * (total beam length)`` [kg] (183.11 kg at h = 3 cm), or with section sides by member
+    group (:func:`truss_sections`) the sum over the members."""
     p = params or load_parameters()
+    if isinstance(h, Mapping):
+        return t_truss_cubes(p["truss"]["cube_side"]).mass(truss_sections(h, p))
     h = check_section_side(h, p)
     nodes = truss_nodes(p["truss"]["cube_side"])
     length = sum(np.linalg.norm(nodes[a] - nodes[b]) for a, b in truss_members(p["truss"]["cube_side"]))
     return p["truss"]["density"] * h**2 * length
+
+
+def truss_section(h: float, params: dict | None = None, name: str = "h") -> Section:
+    """The truss members' square section of side ``h`` [m] (checked: :func:`check_section_side`), with the
+    parameters' material, torsion constant and damping; ``name`` is the parameter an error names."""
+    p = params or load_parameters()
+    tr = p["truss"]
+    h = check_section_side(h, p, name)
+    return Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"],
+                          torsion=tr["torsion"], damping_model=tr["damping_model"])
+
+
+def truss_sections(sides: Mapping[str, float], params: dict | None = None) -> dict[str, Section]:
+    """Sections by key of :meth:`trusscodesign.model.cubetruss.CubeTruss.sections` (``"longerons"``, ``"C4"``,
+    ``"C4/longerons"``, ``"all"``, ...) from their square sides [m], each checked as ``h``."""
+    if not sides:
+        raise ValueError("sides must give at least one section side [m] by key ('all', a member group or a cube)")
+    return {key: truss_section(side, params, f"sides[{key!r}]") for key, side in sides.items()}
 
 
 def component_masses(h: float, hub_mass: float | None = None, params: dict | None = None) -> dict[str, float]:
@@ -174,7 +197,8 @@ class OpenLoop:
         The blocks: hub, truss, panels, antenna, PMA block.
     parameters : dict
         The values used (h, theta, hub mass and Iyy, first panel frequency, SADM k, f); None for those that are LFT
-        parameters of ``lft`` (h if tunable; theta, hub mass, Iyy and panel frequency if uncertain).
+        parameters of ``lft`` (h if tunable; theta, hub mass, Iyy and panel frequency if uncertain). With section sides
+        by member group, h is None and each side is ``h_<key>``.
     lft : trusscodesign.model.lft.LFT or None
         For ``open_loop(..., uncertain=True)``: the uncertain model ``F_u(G, Delta)``
         (12 inputs, 20 outputs); ``G`` then holds its certain part, delta channels first.
@@ -229,15 +253,18 @@ def tunable_h(params: dict | None = None) -> Parameter:
     return Parameter("h", tr["h_nominal"], low, high, tunable=True)
 
 
-def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None,
+def open_loop(h: float | Mapping[str, float] = 0.03, theta: float = 0.0, hub_mass: float | None = None, hub_iyy: float | None = None,
               panel_omega1: float | None = None, n_modes: int = 1, params: dict | None = None, uncertain: bool = False,
               tunable: bool = False) -> OpenLoop:
     """Build the open-loop spacecraft model ``G(s)``.
 
     Parameters
     ----------
-    h : float
-        Side of the truss beams' square section [m] (the paper's range 0.015-0.03).
+    h : float or mapping str -> float
+        Side of the truss beams' square section [m] (the paper's range 0.015-0.03), or sides by member group, cube or
+        group of one cube (:func:`truss_sections`; e.g. ``{"longerons": 0.025, "all": 0.02}``): the truss is then
+        assembled member by member (:func:`trusscodesign.model.cubetruss.truss_model`, equal to the paper's cube-by-cube
+        block diagram to round-off with one side for all).
     theta : float
         Solar panel angle [rad] (both panels), about the spacecraft x axis.
     hub_mass, hub_iyy, panel_omega1 : float, optional
@@ -269,7 +296,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
 
         check_parameters(params, "params")
     p = params or load_parameters()
-    h = check_section_side(h, p)
+    if isinstance(h, Mapping):
+        if tunable:
+            raise ValueError("tunable scales one section side h: give h as a number, not sides by member group")
+        sections = truss_sections(h, p)
+    else:
+        h = check_section_side(h, p)
     theta = _panel_angle(theta)
     hub = p["hub"]
     m_hub = _finite(hub["mass"] if hub_mass is None else hub_mass, "hub_mass", positive=True)
@@ -287,10 +319,12 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     rename = {v: k for k, v in tr["base_points"].items()}
     hub_model = bodies.rigid_hub(unc.get("M_SC", m_hub), inertia, {rename.get(k, k): v for k, v in points.items()}, iyy=unc.get("Iyy_SC"))
 
-    section = Section.square(h, young=tr["young"], poisson=tr["poisson"], density=tr["density"], damping=tr["damping"], torsion=tr["torsion"],
-                             damping_model=tr["damping_model"])
     origin = np.asarray(points[tr["base_points"]["N1"]], dtype=float)
-    truss_model = t_truss(section, tr["cube_side"], n_modes, h_param=tunable_h(p) if tunable else None).translate(origin)
+    if isinstance(h, Mapping):
+        truss_model = cube_truss_model(t_truss_cubes(tr["cube_side"]), sections, ["N1", "N2", "N3", "N4"], ["N17", "N20"],
+                                       n_modes, name="T_str").translate(origin)
+    else:  # the paper's cube-by-cube block diagram, on which the stored results were computed
+        truss_model = t_truss(truss_section(h, p), tr["cube_side"], n_modes, h_param=tunable_h(p) if tunable else None).translate(origin)
 
     panels = {}
     for label in ("SP1", "SP2"):
@@ -332,8 +366,10 @@ def open_loop(h: float = 0.03, theta: float = 0.0, hub_mass: float | None = None
     nd = lft.n_delta
     g = lft.to_ss(INPUTS, OUTPUTS, name="G")
     blocks = {"hub": hub_model, "truss": truss_model, "SP1": panels["SP1"], "SP2": panels["SP2"], "antenna": antenna, "pmas": pma_model}
-    values: dict[str, float | None] = dict(h=h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
+    values: dict[str, float | None] = dict(h=None if isinstance(h, Mapping) else h, theta=theta, hub_mass=m_hub, hub_iyy=float(inertia[1, 1]), panel_omega1=float(omega[0]),
                                            sadm_stiffness=ch["sadm_stiffness"], sadm_friction=ch["sadm_friction"], n_delta=nd)
+    if isinstance(h, Mapping):  # sides by member group: h_<key> for each
+        values.update({f"h_{key}": float(side) for key, side in h.items()})
     if tunable:  # the arguments given for these were not used: the model holds them as LFT parameters
         values["h"] = None
     if uncertain:
