@@ -237,3 +237,24 @@ def test_notebook_06s_stored_design_recomputes() -> None:
     res = design.robust_design(design.models_at(stored["parameters"]["h_design"]), LoopSettings.from_parameters(), options)
     assert res.iterations == rec["iterations"] and res.success
     assert res.j_c == pytest.approx(rec["J_c"], rel=1e-6, abs=0) and res.z_c == pytest.approx(rec["Z_c"], rel=1e-5, abs=0)
+
+
+def test_design_models_with_sides_by_member_group():
+    """One side for all, given by group, is the same design point (G_r to 1e-8, mass, inertia); a truss variant moves
+    every side by the shift; a side out of the design range is named."""
+    from trusscodesign.model.statespace import frequency_response
+
+    by_group = design.models_at({"all": 0.02139})
+    paper = design.models_at(0.02139)
+    assert by_group.h == {"all": 0.02139} and by_group.truss_mass == pytest.approx(paper.truss_mass, rel=1e-14)
+    assert np.allclose(by_group.inertia, paper.inertia, rtol=1e-10)
+    w = [1.0, 97.7, 400.0]
+    g1 = frequency_response(by_group.g_r.a, by_group.g_r.b, by_group.g_r.c, by_group.g_r.d, w)
+    g2 = frequency_response(paper.g_r.a, paper.g_r.b, paper.g_r.c, paper.g_r.d, w)
+    assert by_group.g_r.a.shape == paper.g_r.a.shape and np.max(np.abs(g1 - g2)) < 1e-8 * np.max(np.abs(g2))
+    grouped = design.models_at({"longerons": 0.025, "all": 0.02})
+    [variant] = design.truss_variants(grouped, [-0.02])
+    assert variant.h == pytest.approx({"longerons": 0.0245, "all": 0.0196})
+    assert variant.truss_mass == pytest.approx(grouped.truss_mass * 0.98**2, rel=1e-12)
+    with pytest.raises(ValueError, match=r"h\['longerons'\] must be a section side in \[0.015, 0.03\] m, got 0.035"):
+        design.models_at({"longerons": 0.035, "all": 0.02})

@@ -35,3 +35,10 @@ def test_bad_input_is_named(tmp_path):
         export.save_design_mat(tmp_path / "x.mat", np.ones((8, 4)), None, None)
     with pytest.raises(ValueError, match="does not exist"):
         export.save_design_mat(tmp_path / "no" / "x.mat", np.ones((4, 8)), None, None)
+
+
+def test_a_design_with_sides_by_member_group_round_trips(tmp_path):
+    models = design.models_at({"longerons": 0.025, "all": 0.02})
+    path = export.save_design_mat(tmp_path / "grouped.mat", np.full((4, 8), -0.5), models, LoopSettings.from_parameters())
+    back = export.load_design_mat(path)
+    assert back["h_m"] == {"longerons": 0.025, "all": 0.02}

@@ -168,7 +168,7 @@ def truss_sections(sides: Mapping[str, float], params: dict | None = None) -> di
     return {key: truss_section(side, params, f"sides[{key!r}]") for key, side in sides.items()}
 
 
-def component_masses(h: float, hub_mass: float | None = None, params: dict | None = None) -> dict[str, float]:
+def component_masses(h: float | Mapping[str, float], hub_mass: float | None = None, params: dict | None = None) -> dict[str, float]:
     """Mass of each component [kg]: hub, truss, panels, antenna, PMAs (casing + proof mass)."""
     p = params or load_parameters()
     pm = p["pma"]

@@ -40,8 +40,9 @@ class DesignModels:
 
     Attributes
     ----------
-    h : float
-        Section side [m].
+    h : float or dict str -> float
+        Section side [m], or sides [m] by member group, cube or group of one cube (the keys of
+        :func:`trusscodesign.model.spacecraft.truss_sections`).
     g_r, g_r_low : trusscodesign.model.lft.LFT
         ``F_u(G_r(h), Delta)`` (modes up to ``omega_max``) and ``F_u(G_r_low(h), Delta)`` (all flexible modes); as
         named ``control.StateSpace`` objects: :attr:`G_r` and :attr:`G_r_low`.
@@ -52,7 +53,7 @@ class DesignModels:
     inertia : ndarray (3, 3)
         Rigid inertia of the spacecraft at P1 at nominal parameters [kg m^2] (ACS design).
     truss_mass : float
-        T-truss mass [kg]: ``rho h^2`` times the total beam length.
+        T-truss mass [kg]: ``rho h^2`` times the beams' length, summed over the members.
     build_time_s : float
         Time to build and reduce the models [s] (of which ``assembly_time_s`` to assemble the uncertain model).
     omega_max : float
@@ -62,7 +63,7 @@ class DesignModels:
         keeps the spillover modes damped at half of it (:func:`robust_design`).
     """
 
-    h: float
+    h: float | dict[str, float]
     g_r: LFT
     g_r_low: LFT
     g_check: LFT
@@ -93,30 +94,36 @@ def in_design_range(h: float, params: dict | None = None) -> bool:
     return bool(low_h - 1e-12 <= h <= high_h + 1e-12)
 
 
-def models_at(h: float, params: dict | None = None, omega_max: float = 500.0, omega_min: float = 0.01,
+def models_at(h: float | Mapping[str, float], params: dict | None = None, omega_max: float = 500.0, omega_min: float = 0.01,
               omega_spill: float = 1e4) -> DesignModels:
-    """Build ``G_r`` and ``G_r_low`` at section side h [m] (one assembly, one slow-pole split).
+    """Build ``G_r`` and ``G_r_low`` at section side h [m] (one assembly, one slow-pole split), or at sides by member
+    group, cube or group of one cube (a mapping, as :func:`trusscodesign.model.spacecraft.open_loop` takes).
 
     Raises
     ------
     ValueError
-        For h outside the design range of the parameters (paper: [0.015, 0.03] m).
+        For a side outside the design range of the parameters (paper: [0.015, 0.03] m).
     """
     p = params or spacecraft.load_parameters()
     low_h, high_h = p["truss"]["h_range"]
-    if not (isinstance(h, (int, float, np.floating)) and in_design_range(h, p)):
-        raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
-    return _models(float(h), p, omega_max, omega_min, omega_spill)
+    sides = dict(h) if isinstance(h, Mapping) else {"": h}
+    for key, side in sides.items():
+        if not (isinstance(side, (int, float, np.floating)) and in_design_range(side, p)):
+            name = f"h[{key!r}]" if key else "h"
+            raise ValueError(f"{name} must be a section side in [{low_h}, {high_h}] m, got {side!r}")
+    return _models({k: float(v) for k, v in h.items()} if isinstance(h, Mapping) else float(h), p, omega_max, omega_min,
+                   omega_spill)
 
 
-def _models(h: float, p: dict, omega_max: float = 500.0, omega_min: float = 0.01, omega_spill: float = 1e4) -> DesignModels:
+def _models(h: float | dict[str, float], p: dict, omega_max: float = 500.0, omega_min: float = 0.01,
+            omega_spill: float = 1e4) -> DesignModels:
     """:func:`models_at` without the design-range check: a truss variant (a model error of a design) may lie a few per
     cent beyond the range the co-design searches."""
     t0 = time.perf_counter()
     if not omega_min < omega_max < omega_spill:
         raise ValueError(f"the frequencies must satisfy omega_min < omega_max < omega_spill [rad/s], got {omega_min!r}, "
                          f"{omega_max!r}, {omega_spill!r}")
-    lft = spacecraft.open_loop(float(h), uncertain=True, params=p).uncertain().grouped()
+    lft = spacecraft.open_loop(h, uncertain=True, params=p).uncertain().grouped()
     t_build = time.perf_counter() - t0
     low = reduction.modal_reduction(lft.a, lft.b, lft.c, lft.d, omega_min=omega_min)
     g_low = LFT(*low.reduced, lft.blocks, lft.params)
@@ -127,7 +134,7 @@ def _models(h: float, p: dict, omega_max: float = 500.0, omega_min: float = 0.01
     g_check = LFT(*spill, lft.blocks, lft.params)
     red, _ = reduction.residualize_above(*low.reduced, omega_max)
     g_r = LFT(*red, lft.blocks, lft.params)
-    return DesignModels(float(h), g_r, g_low, g_check, spacecraft.inertia_at_p1(g_r), spacecraft.truss_mass(float(h), p),
+    return DesignModels(h, g_r, g_low, g_check, spacecraft.inertia_at_p1(g_r), spacecraft.truss_mass(h, p),
                         time.perf_counter() - t0, float(omega_max), t_build, float(p["truss"]["damping"]))
 
 
@@ -168,7 +175,12 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
     for shift in shifts:
         if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and 0 < abs(shift) < 0.5):
             raise ValueError(f"each truss shift must be a nonzero relative change in (-0.5, 0.5), got {shift!r}")
-    return [_models(spacecraft.check_section_side(models.h * (1.0 + float(shift)), p), p, models.omega_max) for shift in shifts]
+    def shifted(shift: float) -> float | dict[str, float]:
+        if isinstance(models.h, dict):  # every side moved by the same relative error
+            return {k: spacecraft.check_section_side(v * (1.0 + shift), p, f"h[{k!r}]") for k, v in models.h.items()}
+        return spacecraft.check_section_side(models.h * (1.0 + shift), p)
+
+    return [_models(shifted(float(shift)), p, models.omega_max) for shift in shifts]
 
 
 def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence[float], settings: LoopSettings | None = None,

@@ -2,7 +2,7 @@
 file (:func:`scipy.io.savemat`), and read back as ``control.StateSpace`` objects.
 
 The file holds ``K_PMA`` (4 x 8, PMA commands [N] per measured acceleration [m/s^2 or rad/s^2]), ``h_m`` (the section
-side [m]), and two structs with fields ``A``, ``B``, ``C``, ``D``, ``InputName`` and ``OutputName`` (cell arrays of
+side [m]; for sides by member group, NaN, with ``side_keys`` (cell of char) and ``sides_m`` beside it), and two structs with fields ``A``, ``B``, ``C``, ``D``, ``InputName`` and ``OutputName`` (cell arrays of
 char): ``G_r``, the reduced open loop with its Delta channels open first (``w_<parameter>_<i>`` / ``z_<parameter>_<i>``,
 normalised parameters, :attr:`trusscodesign.study.design.DesignModels.G_r`), and ``closed_loop``, the generalized plant
 closed by ``K_PMA`` at the nominal scenario (``[w; p~] -> [z; RPE; W~u]``,
@@ -72,15 +72,23 @@ def save_design_mat(path: str | Path, gain: ArrayLike, models: DesignModels, set
     if not out.parent.is_dir():
         raise ValueError(f"path: the folder {out.parent} does not exist (create it first)")
     loop = plant_at(models.g_r, Scenario(), models.inertia, settings).closed_loop(k)
-    io.savemat(out, {"K_PMA": k, "h_m": float(models.h), "G_r": _struct(models.G_r), "closed_loop": _struct(loop)},
-               do_compression=True)
+    if isinstance(models.h, dict):  # sides by member group: their keys and values beside a NaN h
+        side: dict[str, Any] = {"h_m": float("nan"), "side_keys": np.array(list(models.h), dtype=object),
+                                "sides_m": np.array(list(models.h.values()))}
+    else:
+        side = {"h_m": float(models.h)}
+    io.savemat(out, {"K_PMA": k, **side, "G_r": _struct(models.G_r), "closed_loop": _struct(loop)}, do_compression=True)
     return out
 
 
 def load_design_mat(path: str | Path) -> dict[str, Any]:
-    """Read a file of :func:`save_design_mat`: ``{"K_PMA": (4, 8) array, "h_m": float, "G_r": control.StateSpace,
-    "closed_loop": control.StateSpace}`` (the models with their signal names)."""
+    """Read a file of :func:`save_design_mat`: ``{"K_PMA": (4, 8) array, "h_m": float or dict, "G_r": control.StateSpace,
+    "closed_loop": control.StateSpace}`` (the models with their signal names; ``h_m`` the sides by key [m] for a
+    design with sides by member group)."""
     raw = io.loadmat(Path(path), simplify_cells=True)
     gain: NDArray[np.float64] = np.asarray(raw["K_PMA"], dtype=float)
-    return {"K_PMA": gain, "h_m": float(raw["h_m"]), "G_r": _model(raw["G_r"], "G_r"),
-            "closed_loop": _model(raw["closed_loop"], "closed_loop")}
+    h: float | dict[str, float] = float(raw["h_m"])
+    if "side_keys" in raw:
+        keys, values = np.atleast_1d(raw["side_keys"]), np.atleast_1d(raw["sides_m"])
+        h = {str(key): float(v) for key, v in zip(keys, values)}
+    return {"K_PMA": gain, "h_m": h, "G_r": _model(raw["G_r"], "G_r"), "closed_loop": _model(raw["closed_loop"], "closed_loop")}
