@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 import traceback
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -115,15 +115,16 @@ NUMERICAL_FAILURES: tuple[type[Exception], ...] = (ArithmeticError, ValueError, 
 NOT_NUMERICAL: tuple[type[Exception], ...] = (NotImplementedError, RecursionError, UnicodeError)
 
 
-def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
+def evaluate_particle(h: float | Mapping[str, float], gain0: ArrayLike | None = None, settings: LoopSettings | None = None, params: dict | None = None,
                       m0: float = M0_PAPER, fail: bool = False, synthesis_options: SynthesisOptions | None = None,
                       scenarios0: Sequence[Sequence[float]] | None = None, truss_tolerance: float = 0.0) -> dict:
     """One objective evaluation (Steps 1-4 for one particle); a numerical failure is a penalised particle, not an error.
 
     Parameters
     ----------
-    h : float
-        Section side [m].
+    h : float or mapping str -> float
+        Section side [m], or sides [m] by member group, cube or group of one cube (the keys of
+        :func:`trusscodesign.model.spacecraft.truss_sections`; the truss-tolerant shifts move every side).
     gain0 : array_like (4, 8), optional
         Warm start (default: all gains at -1).
     settings, params
@@ -167,12 +168,13 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
     t0 = time.perf_counter()
     out = _new_record(h)
     p = params or spacecraft.load_parameters()
+    side = _side(h)
     try:
-        out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), p)  # inside: a bad h is a failed particle
+        out["mass"] = out["mass_check"] = spacecraft.truss_mass(side, p)  # inside: a bad h is a failed particle
         with threadpool_limits(1):
             if fail:
                 raise RuntimeError("injected failure (test)")
-            models = design.models_at(float(h), params=p)
+            models = design.models_at(side, params=p)
             out["t_build"], out["t_reduction"] = models.assembly_time_s, models.build_time_s - models.assembly_time_s
             t1 = time.perf_counter()
             variants = design.truss_variants(models, tolerance_shifts(truss_tolerance), p)
@@ -207,9 +209,14 @@ def evaluate_particle(h: float, gain0: ArrayLike | None = None, settings: LoopSe
 _CRITICAL = ("critical_omega", "critical_theta_deg", "effort_omega", "effort_theta_deg")
 
 
-def _new_record(h: float) -> dict[str, Any]:
+def _side(h: float | Mapping[str, float]) -> float | dict[str, float]:
+    """``h`` as a float, or the sides by key as floats (as a record stores them)."""
+    return {str(k): float(v) for k, v in h.items()} if isinstance(h, Mapping) else float(h)
+
+
+def _new_record(h: float | Mapping[str, float]) -> dict[str, Any]:
     """A particle's record before its evaluation: no design yet (J_c, Z_c infinite), no mass, no times."""
-    return {"h": float(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
+    return {"h": _side(h), "J_c": np.inf, "Z_c": np.inf, "gain": None, "scenarios": None, "t_model": 0.0, "t_build": 0.0,
             "t_reduction": 0.0, "t_variants": 0.0, "t_synthesis": 0.0, **dict.fromkeys(_CRITICAL), "mass": np.nan, "mass_check": np.nan, "t_total": 0.0}
 
 
@@ -224,7 +231,7 @@ def _with_objective(out: dict[str, Any], m0: float) -> dict[str, Any]:
     return out
 
 
-def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float = M0_PAPER) -> dict[str, Any]:
+def lost_evaluation(h: float | Mapping[str, float], reason: str, params: dict | None = None, m0: float = M0_PAPER) -> dict[str, Any]:
     """The record of a particle whose evaluation never returned (it killed every worker that ran it): failed, with its
     reason, and penalised like any failed synthesis (``f = m(h)/m0 + 10``).
 
@@ -234,6 +241,6 @@ def lost_evaluation(h: float, reason: str, params: dict | None = None, m0: float
         If ``h`` is not a section side (the swarm's particles always are: a bad one is a programming error).
     """
     out = _new_record(h)
-    out["mass"] = out["mass_check"] = spacecraft.truss_mass(float(h), params or spacecraft.load_parameters())
+    out["mass"] = out["mass_check"] = spacecraft.truss_mass(_side(h), params or spacecraft.load_parameters())
     out["status"] = f"failed: {reason}"
     return _with_objective(out, m0)
