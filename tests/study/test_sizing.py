@@ -33,3 +33,11 @@ def test_bad_groupings_and_design_vectors_are_named():
     incomplete = sizing.Grouping.of({"longerons": ["longerons"], "battens": ["battens"]})
     with pytest.raises(ValueError, match="no section for the members"):
         incomplete.mass([0.02, 0.02])
+
+
+def test_the_mass_coefficients_give_the_mass_of_any_design_vector():
+    g = sizing.Grouping.of()
+    c = g.mass_coefficients()
+    np.testing.assert_allclose(c, 2700.0 * np.array([12.0, 8.0, 20 + 25 * np.sqrt(2)]), rtol=1e-12)
+    for theta in ([0.015, 0.03, 0.02], [0.0213, 0.0187, 0.0291]):
+        assert np.asarray(theta) ** 2 @ c == pytest.approx(g.mass(theta), rel=1e-12)

@@ -42,29 +42,31 @@ def _check_synthesis_options(options: object) -> None:
                         f"CODESIGN_OPTIONS), got {type(options).__name__}")
 
 
-def _check_batch(hs: Sequence[float], m0: float, synthesis_options: object, params: dict | None,
+def _check_batch(hs: Sequence[float | Mapping[str, float]], m0: float, synthesis_options: object, params: dict | None,
                  truss_tolerance: float = 0.0) -> None:
     """Check what every particle of a batch would otherwise fail on, before any is evaluated: each h a section side in
-    metres inside the design range (:func:`trusscodesign.study.design.models_at` refuses the others), ``m0``, the synthesis options
-    and the truss tolerance."""
+    metres inside the design range (:func:`trusscodesign.study.design.models_at` refuses the others), or sides by key
+    each inside it, ``m0``, the synthesis options and the truss tolerance."""
     from .design import in_design_range
 
     low, high = (params or spacecraft.load_parameters())["truss"]["h_range"]
-    h = np.asarray(hs, dtype=float)
+    sides = [v for h in hs for v in (h.values() if isinstance(h, Mapping) else [h])] if len(hs) else []
+    h = np.asarray(sides, dtype=float)
     if h.ndim != 1 or not h.size or not np.all(np.isfinite(h)) or not all(in_design_range(float(v), params) for v in h):
-        raise ValueError(f"hs must be a non-empty list of section sides in metres in the design range [{low}, {high}], "
-                         f"got {hs!r}")
+        raise ValueError(f"hs must be a non-empty list of section sides in metres (or of sides by key) in the design range "
+                         f"[{low}, {high}], got {hs!r}")
     objective_value(1.0, 0.0, m0)  # m0: a ValueError now, not after every particle's synthesis
     _check_synthesis_options(synthesis_options)
     tolerance_shifts(truss_tolerance)
 
 
-def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
+def evaluate_swarm(hs: Sequence[float | Mapping[str, float]], gain0: ArrayLike | None, client=None, settings: LoopSettings | None = None,
                    params: dict | None = None, m0: float = M0_PAPER, fail_particles: Sequence[int] = (), progress: bool = True,
                    synthesis_options: SynthesisOptions | None = None,
                    scenarios0: Sequence[Sequence[float]] | None = None, partial: str | Path | None = None,
                    partial_key: dict | None = None, truss_tolerance: float = 0.0) -> list[dict]:
-    """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``.
+    """Evaluate the particles ``hs`` [m] (in parallel on ``client`` if given), in the order of ``hs``; a particle is a
+    section side, or sides by key (:func:`evaluate_particle`).
 
     A worker that dies is retried by Dask (up to its ``distributed.scheduler.allowed-failures``, 3 by default); a
     particle whose evaluation ends its worker every time, run again alone, is a failed particle (:func:`lost_evaluation`)
@@ -86,14 +88,14 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     gain0 = None if gain0 is None else np.asarray(gain0, dtype=float)
     kw: dict[str, Any] = dict(settings=settings, params=params, m0=m0, synthesis_options=synthesis_options, scenarios0=scenarios0,
                               truss_tolerance=truss_tolerance)
-    keys = [(float(h), i in fail_particles) for i, h in enumerate(hs)]
+    keys = [(_point(h), i in fail_particles) for i, h in enumerate(hs)]
     unique = list(dict.fromkeys(keys))
     saved = _read_partial(partial, partial_key)
     results = {k: saved["records"][_tag(k)] for k in unique if _tag(k) in saved["records"]}
     todo = [k for k in unique if k not in results]
     t0 = time.perf_counter()
 
-    def finished(key: tuple[float, bool], rec: dict) -> None:
+    def finished(key: tuple[_Point, bool], rec: dict) -> None:
         results[key] = rec
         bar.update()
         if partial is not None:
@@ -104,11 +106,11 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
     bar = tqdm(total=len(unique), initial=len(results), desc="particles", disable=not progress, leave=False)
     if client is None:
         for h, fail in todo:
-            finished((h, fail), evaluate_particle(h, gain0, fail=fail, **kw))
+            finished((h, fail), evaluate_particle(_side(h), gain0, fail=fail, **kw))
     else:
         from dask.distributed import KilledWorker
 
-        futures = {client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw): (h, fail)
+        futures = {client.submit(evaluate_particle, _side(h), gain0, fail=fail, pure=False, **kw): (h, fail)
                    for h, fail in todo}
         lost = []
         for fut in as_finished(client, futures):
@@ -120,18 +122,31 @@ def evaluate_swarm(hs: Sequence[float], gain0: ArrayLike | None, client=None, se
         # with it: each lost particle runs again alone, and only one that still ends its worker is a failed particle
         for h, fail in lost:
             try:
-                alone = client.submit(evaluate_particle, h, gain0, fail=fail, pure=False, **kw)
+                alone = client.submit(evaluate_particle, _side(h), gain0, fail=fail, pure=False, **kw)
                 rec = next(as_finished(client, [alone])).result()
             except KilledWorker as exc:
-                rec = lost_evaluation(h, f"the evaluation ended its worker every time (KilledWorker: {exc})", params, m0)
+                rec = lost_evaluation(_side(h), f"the evaluation ended its worker every time (KilledWorker: {exc})", params, m0)
             finished((h, fail), rec)  # saved in the partial file: a resume does not run it again
     bar.close()
     first = {k: i for i, k in reversed(list(enumerate(keys)))}
     return [dict(results[k], shared_with=first[k]) if first[k] != i else results[k] for i, k in enumerate(keys)]
 
 
-def _tag(key: tuple[float, bool]) -> str:
-    """JSON key of an evaluation: h to 17 digits and whether a failure is injected."""
+_Point = float | tuple[tuple[str, float], ...]
+
+
+def _point(h: float | Mapping[str, float]) -> _Point:
+    """A particle as a hashable value: h [m], or its sides by key as sorted (key, side) pairs."""
+    return tuple(sorted((str(k), float(v)) for k, v in h.items())) if isinstance(h, Mapping) else float(h)
+
+
+def _side(point: _Point) -> float | dict[str, float]:
+    """The particle of :func:`_point` as :func:`evaluate_particle` takes it."""
+    return dict(point) if isinstance(point, tuple) else point
+
+
+def _tag(key: tuple[_Point, bool]) -> str:
+    """JSON key of an evaluation: h to 17 digits (or the sorted sides by key) and whether a failure is injected."""
     return f"{key[0]!r}|{key[1]}"
 
 

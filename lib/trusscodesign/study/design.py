@@ -30,7 +30,7 @@ from ..control.closedloop import LoopSettings
 from ..model.lft import LFT
 from ..control.synthesis import NOT_STABILISED, Scenario, SynthesisOptions, SynthesisResult, WorstCase, plant_at, synthesize, worst_case
 
-__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "stored_preset", "TABLE_DESIGNS", "table_design", "truss_shift_check",
+__all__ = ["DesignModels", "design_record", "tolerant_designs", "in_design_range", "models_at", "open_loop_worst_case", "robust_design", "stored_design", "stored_preset", "TABLE_DESIGNS", "table_design", "truss_shift_check", "shifted_sides",
            "truss_variants"]
 
 
@@ -175,15 +175,20 @@ def truss_variants(models: DesignModels, shifts: Sequence[float], params: dict |
     for shift in shifts:
         if not (isinstance(shift, (int, float, np.floating)) and np.isfinite(shift) and 0 < abs(shift) < 0.5):
             raise ValueError(f"each truss shift must be a nonzero relative change in (-0.5, 0.5), got {shift!r}")
-    def shifted(shift: float) -> float | dict[str, float]:
-        if isinstance(models.h, dict):  # every side moved by the same relative error
-            return {k: spacecraft.check_section_side(v * (1.0 + shift), p, f"h[{k!r}]") for k, v in models.h.items()}
-        return spacecraft.check_section_side(models.h * (1.0 + shift), p)
-
-    return [_models(shifted(float(shift)), p, models.omega_max) for shift in shifts]
+    return [_models(shifted_sides(models.h, float(shift), p), p, models.omega_max) for shift in shifts]
 
 
-def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence[float], settings: LoopSettings | None = None,
+def shifted_sides(h: float | Mapping[str, float], shift: float, params: dict | None = None) -> float | dict[str, float]:
+    """The section side ``h`` [m], or every side of a mapping by key, moved by the relative ``shift`` and checked
+    (:func:`trusscodesign.model.spacecraft.check_section_side`; not against the design range: a shifted truss is a model
+    error, not a design)."""
+    p = params or spacecraft.load_parameters()
+    if isinstance(h, Mapping):  # every side moved by the same relative error
+        return {str(k): spacecraft.check_section_side(float(v) * (1.0 + shift), p, f"h[{k!r}]") for k, v in h.items()}
+    return spacecraft.check_section_side(h * (1.0 + shift), p)
+
+
+def truss_shift_check(h: float | Mapping[str, float], gains: Mapping[str, ArrayLike], shifts: Sequence[float], settings: LoopSettings | None = None,
                       spillover: bool = False, params: dict | None = None,
                       progress: Callable[[Iterable], Iterable] = iter, **search) -> list[dict]:
     """Worst case of designs at ``h`` [m] on the spacecraft with its truss section side moved by each relative shift.
@@ -195,8 +200,8 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
 
     Parameters
     ----------
-    h : float
-        Section side of the designs [m].
+    h : float or mapping str -> float
+        Section side of the designs [m], or their sides by key (:func:`models_at`; a shift moves every side).
     gains : mapping of str to array_like (4, 8)
         The PMA gains checked, by name.
     shifts : sequence of float
@@ -215,15 +220,16 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
     Returns
     -------
     list of dict
-        One per checked shift and gain: ``design``, ``shift_pct`` [%], ``h_cm`` [cm], ``J_c``, ``omega_J_rad_s``, ``Z_c``,
+        One per checked shift and gain: ``design``, ``shift_pct`` [%], ``h_cm`` [cm] (the largest side for sides by key), ``J_c``, ``omega_J_rad_s``, ``Z_c``,
         ``unstable_box_points``, ``evaluations``, ``spillover_stable`` (with ``spillover``) and ``valid`` (no unstable
         box point, ``Z_c < gamma_u`` and, with ``spillover``, a stable spillover loop).
     """
     settings = settings or LoopSettings.from_parameters()
     p = params or spacecraft.load_parameters()
     low_h, high_h = p["truss"]["h_range"]
-    if not (isinstance(h, (int, float, np.floating)) and not isinstance(h, bool) and in_design_range(h, p)):
-        raise ValueError(f"h must be a section side in [{low_h}, {high_h}] m, got {h!r}")
+    for key, side in (h.items() if isinstance(h, Mapping) else [("", h)]):
+        if not (isinstance(side, (int, float, np.floating)) and not isinstance(side, bool) and in_design_range(side, p)):
+            raise ValueError(f"{f'h[{key!r}]' if key else 'h'} must be a section side in [{low_h}, {high_h}] m, got {side!r}")
     shifts = list(shifts)
     for shift in shifts:
         if not (isinstance(shift, (int, float, np.integer, np.floating)) and not isinstance(shift, bool)
@@ -236,11 +242,11 @@ def truss_shift_check(h: float, gains: Mapping[str, ArrayLike], shifts: Sequence
             raise ValueError(f"gains[{name!r}] must be a finite 4x8 matrix, got shape {k.shape}")
     rows: list[dict] = []
     for rel in progress(sorted({0.0, *(float(s) for s in shifts)})):
-        h_s = h * (1 + rel)
-        m_s = _models(spacecraft.check_section_side(h_s, p), p)
+        h_s = shifted_sides(h, rel, p)
+        m_s = _models(h_s, p)
         for name, gain in checked.items():
             wc = worst_case(m_s.g_r, gain, m_s.inertia, settings, **search)
-            row = {"design": name, "shift_pct": 100 * rel, "h_cm": 100 * h_s, "J_c": wc.value["rpe"], "omega_J_rad_s": wc.omega["rpe"],
+            row = {"design": name, "shift_pct": 100 * rel, "h_cm": 100 * max(h_s.values()) if isinstance(h_s, dict) else 100 * h_s, "J_c": wc.value["rpe"], "omega_J_rad_s": wc.omega["rpe"],
                    "Z_c": wc.value["effort"], "unstable_box_points": len(wc.unstable), "evaluations": wc.evaluations}
             valid = not wc.unstable and wc.value["effort"] < settings.gamma_u
             if spillover:

@@ -80,3 +80,17 @@ class Grouping:
         """Truss mass [kg] at ``theta`` (rho side^2 times the beams' length, summed over the members)."""
         p = params or spacecraft.load_parameters()
         return spacecraft.truss_mass(self.sides(theta, p), p)
+
+    def mass_coefficients(self, params: dict | None = None) -> NDArray[np.float64]:
+        """``c`` [kg/m^2] with ``mass(theta) = sum(c * theta**2)``: each group's rho times its members' length, from
+        two masses per group (the mass is exactly quadratic in each side), for the many candidates of a search."""
+        p = params or spacecraft.load_parameters()
+        low, high = p["truss"]["h_range"]
+        base = np.full(len(self.groups), low)
+        m_low = self.mass(base, p)
+        out = np.empty(len(self.groups))
+        for i in range(len(self.groups)):
+            theta = base.copy()
+            theta[i] = high
+            out[i] = (self.mass(theta, p) - m_low) / (high**2 - low**2)
+        return out
