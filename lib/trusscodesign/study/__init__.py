@@ -4,7 +4,8 @@
 disturbance), ``sensitivity`` (the two-sided sensitivity study of notebook 06), ``robustness`` (mu sweep over the
 panel angle), ``timedomain`` (worst-case sinusoid from rest), ``objective`` (the co-design's objective at one h),
 ``pso`` and ``codesign`` (the particle-swarm co-design), ``sizing`` (the truss sized by parts: a design vector of
-section sides by member group), ``pareto`` (the mass / pointing front and the expected gain of a candidate),
+section sides by member group), ``pareto`` (the mass / pointing front and the expected gain of a candidate), ``frontsearch`` (the search of that front over
+the sides),
 ``cluster`` (the Dask clients),
 ``export`` (a design for MATLAB and Simulink, as a ``.mat`` file).
 

@@ -111,7 +111,7 @@ def lightest_at(records: Sequence[Mapping[str, Any]], j_c: float, gamma_u: float
 
 def check_search(grouping: Grouping, seeds: Sequence[int], n_initial: object, population: object, generations: object,
                  resolution: object) -> None:
-    """Check a search's sizes before any model is built: ``seeds`` distinct non-negative integers, ``n_initial`` >= 2
+    """Check a search's sizes before any model is built: ``seeds`` distinct non-negative integers, ``n_initial`` >= 1
     (the Latin hypercube of each seed), ``population`` >= 1 (designs per seed and generation), ``generations`` >= 0,
     ``resolution`` [m] in [1e-7, 1e-3] (sides are evaluated on its multiples)."""
     if not isinstance(grouping, Grouping):
@@ -120,7 +120,7 @@ def check_search(grouping: Grouping, seeds: Sequence[int], n_initial: object, po
         raise ValueError(f"seeds must be a non-empty list of distinct non-negative integers, got {seeds!r}")
     for i, s in enumerate(seeds):
         check_option(f"seeds[{i}]", s, 0, integer=True)
-    check_option("n_initial", n_initial, 2, integer=True)
+    check_option("n_initial", n_initial, 1, integer=True)
     check_option("population", population, 1, integer=True)
     check_option("generations", generations, 0, integer=True)
     check_option("resolution", resolution, 1e-7, 1e-3, unit="m")
