@@ -80,7 +80,8 @@ def report(stored: dict, kw: dict) -> dict:
 
 def scaling(kw: dict, n_initial: int, population: int) -> dict:
     """The same short search on 1 and on 2 local workers, each from an empty evaluations file."""
-    out = {}
+    out: dict[int, dict] = {}
+    walls: dict[int, float] = {}
     for workers in (1, 2):
         client = cluster.local_client(workers)
         with tempfile.TemporaryDirectory() as tmp:
@@ -89,7 +90,7 @@ def scaling(kw: dict, n_initial: int, population: int) -> dict:
                                                Path(tmp) / "evaluations.json", kw["settings"], kw["params"],
                                                synthesis_options=kw["synthesis_options"], truss_tolerance=kw["truss_tolerance"],
                                                resolution=kw["resolution"], progress=False)
-            wall = time.perf_counter() - t0
+            wall = walls[workers] = time.perf_counter() - t0
         cluster.close_client(client)
         busy = float(sum(r["t_total"] for r in run.runs[0]))
         out[workers] = {"wall_s": wall, "evaluations": run.evaluated, "busy_s": busy, "waiting_s": workers * wall - busy,
@@ -97,7 +98,7 @@ def scaling(kw: dict, n_initial: int, population: int) -> dict:
         print(f"{workers} worker(s): {wall:.0f} s for {run.evaluated} evaluations ({busy:.0f} s of evaluation)", flush=True)
     if out[1]["designs"] != out[2]["designs"]:
         raise RuntimeError("the search proposed other designs on 2 workers than on 1: it must not depend on the workers")
-    speedup = out[1]["wall_s"] / out[2]["wall_s"]
+    speedup = walls[1] / walls[2]
     return {"n_initial": n_initial, "population": population, "runs": out, "speedup_2": speedup, "efficiency_2": speedup / 2}
 
 

@@ -429,3 +429,49 @@ reaches {max(td['effort']['steady_amplitudes']):.2f} N (time constant {td['effor
 {s['u_max']:g} N. The time stepping agrees with the closed-form response to {sci(td['rpe']['error_vs_closed_form'])}
 (RPE) and {sci(td['effort']['error_vs_closed_form'])} (effort) of the gain.
 """
+
+
+def nb07b(d: dict) -> str:
+    """Sizing the truss by parts: the two fronts, the mass saved at the target and its spread, the front's check."""
+    p, r = d["07b"]["parameters"], d["07b"]["results"]
+    names = list(r["groups"])
+    groups = "; ".join(f"{n.replace('_', ' ')} ({', '.join(keys)})" for n, keys in r["groups"].items())
+    sv, b1, b3 = r["saving_at_target"], r["k1"]["lightest_at_target"], r["k3"]["lightest_at_target"]
+    sides = ", ".join(f"{n.replace('_', ' ')} {cm(t, 2)}" for n, t in zip(names, b3["theta"], strict=True))
+    seeds = r["k3"]["lightest_at_target_per_seed"]
+    seed_rows = [[s, ", ".join(cm(t, 2) for t in x["theta"]), f"{x['mass']:.2f}", val(x["J_c"]), val(x["Z_c"], 3),
+                  f"{sv['per_seed_kg'][s]:.2f}", f"{r['k3']['hypervolume_per_seed'][s]:.2f}"] for s, x in seeds.items() if x]
+    front = [[", ".join(cm(t, 2) for t in x["theta"]) if "theta" in x else f"{cm(x['h'], 2)} (k = 1)", f"{x['mass']:.2f}",
+              val(x["J_c"]), val(x["Z_c"], 3), str(x.get("seed", "-"))] for x in r["k3"]["front"]]
+    chk = r["check"]["table"]
+    n_valid = sum(x["valid on every truss"] for x in chk)
+    worst = max(x["worst J_c"] / x["J_c"] - 1 for x in chk)
+    c, fn1, fn3 = r["counts"], r["k1"]["fn_optimum"], r["k3"]["fn_pick"]
+    spread = (f", standard deviation {sv['std_kg']:.2f} kg" if sv["std_kg"] is not None else "")
+    return f"""## 07b · Sizing the truss by parts: the mass / pointing front
+
+Beyond the paper ([docs/pareto.md](pareto.md) has the method). On `{r['preset']}`, every design tolerant to
+±{100 * r['truss_tolerance']:g} % of its sides, the synthesis options of notebook 07; k = {len(names)} sides by group:
+{groups}. The k = 1 designs are notebook 07's {c['k1_designs']} evaluations (one side h); the search made
+{c['evaluations']} evaluations ({len(p['seeds'])} seeds, each {p['n_initial']} designs then {p['generations']}
+generations of {p['population']}; {c['failed_or_penalised']} failed or penalised).
+
+**What the freedom buys at J_c <= {r['target_jc']}.** One side h needs {b1['mass']:.2f} kg (h = {cm(b1['h'], 2)} cm,
+J_c = {b1['J_c']:.4f}); by parts, the lightest design found weighs {b3['mass']:.2f} kg ({sides} cm; J_c =
+{b3['J_c']:.4f}, Z_c = {b3['Z_c']:.3f}). Over the seeds the saving is **{sv['mean_kg']:.1f} kg on average
+({sv['mean_percent']:.1f} %)**, from {sv['min_kg']:.1f} to {sv['max_kg']:.1f} kg{spread}:
+
+{table(['seed', 'sides [cm]', 'mass [kg]', 'J_c', 'Z_c', 'saved [kg]', 'dominated area [kg x log J_c]'], seed_rows)}
+
+(the k = 1 designs alone dominate {r['k3']['hypervolume_k1']:.2f}). The paper's f^n picks h = {cm(fn1['h'], 2)} cm on
+k = 1 ({fn1['mass']:.2f} kg, J_c = {fn1['J_c']:.4f}, f^n = {fn1['f']:.4f}); among the search's designs its minimum is
+f^n = {fn3['f']:.4f} at {fn3['mass']:.2f} kg, J_c = {fn3['J_c']:.4f}.
+
+**The k = {len(names)} front** (every seed's designs and the k = 1 ones; sides in the order above):
+
+{table(['sides [cm]', 'mass [kg]', 'J_c', 'Z_c', 'seed'], front)}
+
+**Every front design on trusses it was not designed for** (sides off by {', '.join(f'{100 * s:+g}' for s in p['check_shifts'])} %
+and its own; {p['check_angles']} panel angles; spillover loop required stable): {n_valid} of {len(chk)} designs of the
+two fronts valid on every truss; J_c on a shifted truss at most {pct(worst, 1, True)} from the design's own.
+"""

@@ -18,12 +18,12 @@ from pathlib import Path
 
 NOTEBOOKS = ("01_titop_beam", "02_mechanisms_2d", "03_cube_vs_nastran", "04_t_truss_spacecraft", "04b_large_trusses",
              "05_lft_reduction", "06_robust_synthesis", "06b_calibration_tolerance", "06c_pma_authority", "07_pso_codesign",
-             "08_worst_case_mu")
+             "07b_multiparameter_pareto", "08_worst_case_mu")
 PAGE = Path("docs") / "results.md"
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from summary import PAPER_MATCH_T_DELTA, calibration_verdicts, listing  # noqa: E402 - one definition of a match
-from results_control import nb06, nb06b, nb06c, nb07, nb08  # noqa: E402
+from results_control import nb06, nb06b, nb06c, nb07, nb07b, nb08  # noqa: E402
 from results_format import cm, num, ok, pct, split_stalls, stalls_text, val  # noqa: E402
 from results_modelling import nb01, nb02, nb03, nb04, nb04b, nb05  # noqa: E402
 
@@ -145,7 +145,8 @@ shifts within ±2 %; an uncertain truss stiffness in the LFT would be the natura
 def page(root: Path) -> str:
     """The results page (Markdown, ending with one newline)."""
     d = load(root)
-    parts = [intro(d), nb01(d), nb02(d), nb03(d), nb04(d), nb04b(d), nb05(d), nb06(d), nb06b(d), nb06c(d), nb07(d), nb08(d),
+    parts = [intro(d), nb01(d), nb02(d), nb03(d), nb04(d), nb04b(d), nb05(d), nb06(d), nb06b(d), nb06c(d), nb07(d), nb07b(d),
+             nb08(d),
              not_reproduced(d)]
     return "\n\n".join(part.strip("\n") for part in parts) + "\n"
 

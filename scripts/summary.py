@@ -127,6 +127,7 @@ def rows(root: Path) -> list[tuple[str, str, str, str, str]]:
          "another optimum with other stopping rules, so the times are no speed-up", f"`{r7['headline']}` / stated", PAPER_CODESIGN_TIME,
          f"{head['run_time_s'] / 60:.0f} min, {head['counts']['distinct']} / {base['run_time_s'] / 60:.1f} min, "
          f"{base['counts']['distinct']}", "07"),
+        *_pareto_row(root),
         ("Worst case of the analysed design, notebook 07's optimum (the paper: its optimum at 2.139 cm), p~ -> RPE: mu upper / "
          "lower, frequency, panel angle", f"`{r8.get('preset', 'stated')}`", mu("p~ -> RPE", paper, " (paper)"),
          mu("p~ -> RPE", table) + f" (design of notebook {r8['design_source']} on `{r8.get('preset', 'stated')}`, h = {100 * r8['h']:.3f} cm)", "08"),
@@ -148,6 +149,17 @@ def rows(root: Path) -> list[tuple[str, str, str, str, str]]:
          f"{max(td['effort']['steady_amplitudes']):.2f} N ({st8['u_max']:g}), "
          f"{td['rpe']['tau_s']:.0f} s / {td['effort']['tau_s']:.0f} s", "08"),
     ]
+
+
+def _pareto_row(root: Path) -> list[tuple[str, str, str, str, str]]:
+    """Beyond the paper: the mass saved at J_c = 0.9 by sizing the truss by parts (notebook 07b)."""
+    r = _load(root, "07b_multiparameter_pareto")
+    sv, b3 = r["saving_at_target"], r["k3"]["lightest_at_target"]
+    spread = f", {sv['min_kg']:.1f} to {sv['max_kg']:.1f} over {len(sv['per_seed_kg'])} seeds"
+    return [(f"Beyond the paper, the truss sized by parts (k = {len(r['groups'])} sides by member group): truss mass at "
+             f"J_c <= {r['target_jc']}, one side h / by parts (sides, cm) / mass saved", f"`{r['preset']}`", "-",
+             f"{sv['k1_mass_kg']:.2f} kg / {b3['mass']:.2f} kg ({', '.join(f'{100 * t:.2f}' for t in b3['theta'])}) / "
+             f"{sv['mean_kg']:.1f} kg ({sv['mean_percent']:.1f} %){spread}", "07b")]
 
 
 # When a number of this toolkit counts as the paper's (the words of the glance paragraph and of docs/results.md follow
