@@ -1,6 +1,6 @@
 """Benchmark: notebook 07b's search of the mass / pointing front over k = 3 sides, on 2 cores and on 1 and 2 Dask workers.
 
-Two measurements, each saved in ``benchmarks/results/frontsearch.json``:
+Two measurements, each saved in ``benchmarks/results/front_search.json``:
 
 - ``--report``: the stored search of notebook 07b (its evaluations file ``data/results/07b_evaluations.json`` and results),
   on this machine's local cluster of 2 workers: its wall time (the evaluations' calls, summed over the sessions that
@@ -14,7 +14,7 @@ Two measurements, each saved in ``benchmarks/results/frontsearch.json``:
   once, so N workers shorten it until N reaches that number; the time is ``t_propose + ceil(n / N) x t_eval / e`` per
   generation of n designs, with e the efficiency measured on 2 workers.
 
-Run on an otherwise idle machine: python benchmarks/frontsearch.py --report --scaling [--initial 2] [--population 2]
+Run on an otherwise idle machine: python benchmarks/front_search.py --report --scaling [--initial 2] [--population 2]
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from trusscodesign.model import spacecraft  # noqa: E402
 from trusscodesign.study import cluster, codesign, frontsearch, objective, sizing  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
-OUT = Path(__file__).parent / "results" / "frontsearch.json"
+OUT = Path(__file__).parent / "results" / "front_search.json"
 
 
 def setup(stored: dict) -> dict:
