@@ -35,6 +35,27 @@ def test_truss_shift_check_refuses_h_outside_the_range(h: float) -> None:
         design.truss_shift_check(h, {"d": np.zeros((4, 8))}, [0.01])
 
 
+def test_truss_shift_check_takes_sides_by_key_and_moves_every_side(monkeypatch) -> None:
+    """A design sized by parts is checked like one side: each shift moves all its sides (the models built are recorded)."""
+    built = []
+
+    class Stop(Exception):
+        pass
+
+    def record(h, p, *args, **kwargs):
+        built.append(h)
+        raise Stop
+
+    monkeypatch.setattr(design, "_models", record)
+    sides = {"C1/longerons": 0.02, "battens": 0.025}
+    with pytest.raises(ValueError, match=r"h\['battens'\] must be a section side"):
+        design.truss_shift_check({**sides, "battens": 0.04}, {"d": np.zeros((4, 8))}, [0.01])
+    with pytest.raises(Stop):
+        design.truss_shift_check(sides, {"d": np.zeros((4, 8))}, [-0.02])
+    assert built == [{"C1/longerons": pytest.approx(0.0196), "battens": pytest.approx(0.0245)}]  # the first, sorted: -2 %
+    assert design.shifted_sides(0.02, 0.01) == pytest.approx(0.0202)
+
+
 @pytest.mark.parametrize("shift", [float("nan"), -1.5, "0.01"])
 def test_truss_shift_check_refuses_bad_shifts(shift: object) -> None:
     with pytest.raises(ValueError, match="truss shift"):
