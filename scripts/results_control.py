@@ -452,12 +452,14 @@ def nb07b(d: dict) -> str:
 
 Beyond the paper ([docs/pareto.md](pareto.md) has the method). On `{r['preset']}`, every design tolerant to
 ±{100 * r['truss_tolerance']:g} % of its sides, the synthesis options of notebook 07; k = {len(names)} sides by group:
-{groups}. The k = 1 designs are notebook 07's {c['k1_designs']} evaluations (one side h); the search made
+{groups}. The k = 1 front is that of notebook 07's grid of {c['k1_grid']} values of h; the search starts from all of
+notebook 07's {c['k1_designs']} evaluations (one side h: the grid's and the swarm's) and made
 {c['evaluations']} evaluations ({len(p['seeds'])} seeds, each {p['n_initial']} designs then {p['generations']}
 generations of {p['population']}; {c['failed_or_penalised']} failed or penalised).
 
 **What the freedom buys at J_c <= {r['target_jc']}.** One side h needs {b1['mass']:.2f} kg (h = {cm(b1['h'], 2)} cm,
-J_c = {b1['J_c']:.4f}); by parts, the lightest design found weighs {b3['mass']:.2f} kg ({sides} cm; J_c =
+J_c = {b1['J_c']:.4f}, the lightest of all of notebook 07's evaluations; on its grid: {r['k1']['lightest_at_target_on_grid']['mass']:.2f}
+kg at {cm(r['k1']['lightest_at_target_on_grid']['h'], 2)} cm); by parts, the lightest design found weighs {b3['mass']:.2f} kg ({sides} cm; J_c =
 {b3['J_c']:.4f}, Z_c = {b3['Z_c']:.3f}). Over the seeds the saving is **{sv['mean_kg']:.1f} kg on average
 ({sv['mean_percent']:.1f} %)**, from {sv['min_kg']:.1f} to {sv['max_kg']:.1f} kg{spread}:
 
@@ -467,11 +469,11 @@ J_c = {b1['J_c']:.4f}); by parts, the lightest design found weighs {b3['mass']:.
 k = 1 ({fn1['mass']:.2f} kg, J_c = {fn1['J_c']:.4f}, f^n = {fn1['f']:.4f}); among the search's designs its minimum is
 f^n = {fn3['f']:.4f} at {fn3['mass']:.2f} kg, J_c = {fn3['J_c']:.4f}.
 
-**The k = {len(names)} front** (every seed's designs and the k = 1 ones; sides in the order above):
+**The k = {len(names)} front** (every seed's designs and the grid's; sides in the order above):
 
 {table(['sides [cm]', 'mass [kg]', 'J_c', 'Z_c', 'seed'], front)}
 
 **Every front design on trusses it was not designed for** (sides off by {', '.join(f'{100 * s:+g}' for s in p['check_shifts'])} %
 and its own; {p['check_angles']} panel angles; spillover loop required stable): {n_valid} of {len(chk)} designs of the
-two fronts valid on every truss; J_c on a shifted truss at most {pct(worst, 1, True)} from the design's own.
+two fronts and the two lightest at the target valid on every truss; J_c on a shifted truss at most {pct(worst, 1, True)} from the design's own.
 """
