@@ -60,8 +60,29 @@ def rows(results: Path = HERE / "results") -> list[tuple[str, str, str, str, str
          f"reduction {e['reduction']:.1f} s, synthesis {e['synthesis']:.1f} s; best h = {100 * c['best']['h']:.3f} cm, "
          f"J_c {c['best']['J_c']:.4f}", _machine(c["machine"]), "under 60 min (the paper: 11 h 16 min on 24 cores)"),
         _calibrated_row(results),
+        _front_row(results),
         _truss_row(results),
     ]
+
+
+def _front_row(results: Path) -> tuple[str, str, str, str, str, str]:
+    """The row of notebook 07b's search of the mass / pointing front (``front_search.json``), or what is missing."""
+    what = ("notebook 07b's search of the mass / pointing front over 3 sides (`paper_calibrated`, tolerant designs): the "
+            "stored run on 2 cores, a short search on 1 and 2 Dask workers, extrapolated to N")
+    command, target = "`python benchmarks/front_search.py --report --scaling`", "-"
+    path = results / "front_search.json"
+    if not path.exists():
+        return ("`front_search.py`", what, command, "not measured yet", "-", target)
+    f = json.loads(path.read_text())
+    rep, sc = f["report"], f["scaling"]
+    ext = ", ".join(f"{x['workers']}: {x['wall_min']:.0f} min" for x in f["extrapolation"])
+    figures = (f"{rep['wall_time_min']:.0f} min on 2 workers for {rep['distinct_evaluations']} distinct evaluations "
+               f"({len(rep['seeds'])} seeds x {rep['n_initial']} + {rep['population']} x {rep['generations']}; "
+               f"{rep['per_evaluation_s']['total']:.0f} s each, proposals {rep['propose_s']:.0f} s in all, workers waiting "
+               f"{rep['worker_waiting_s'] / 60:.0f} min); short search ({sc['runs']['1']['evaluations']} evaluations) "
+               f"{sc['runs']['1']['wall_s']:.0f} s on 1 worker, {sc['runs']['2']['wall_s']:.0f} s on 2 (x{sc['speedup_2']:.2f}); "
+               f"extrapolated (workers: wall time) {ext}")
+    return ("`front_search.py`", what, command, figures, _machine(f["machine"]), target)
 
 
 def _truss_row(results: Path) -> tuple[str, str, str, str, str, str]:
